@@ -1,0 +1,103 @@
+// The common input and output of every fitting method.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fairspline/spline.hpp"
+#include "fairspline/vec2.hpp"
+
+namespace fairspline {
+
+/// Role of an input point (Johnson–Johnson / Curve Ensemble node kinds).
+enum class PointKind {
+  kSmooth,   ///< the method chooses the tangent
+  kClamped,  ///< the tangent given in FitInput::tangents is kept
+  kCorner,   ///< G0 point: the curve splits into independent pieces here
+};
+
+/// What a fit is asked to do. Everything but `points` is optional.
+struct FitInput {
+  std::vector<Point> points;
+  bool closed = false;
+  /// Exponent of the alpha-parameterization (0 uniform, 0.5 centripetal, 1 chordal).
+  double alpha = kDefaultAlpha;
+  /// Explicit knots; when non-empty they replace the alpha-parameterization.
+  std::vector<double> knots;
+  /// Per-point tangent vectors (empty, or one optional entry per point).
+  std::vector<std::optional<Vec2>> tangents;
+  /// Per-point kinds (empty = all smooth).
+  std::vector<PointKind> kinds;
+  /// Clamped end tangents of an open curve (derivative with respect to the knot parameter
+  /// for C1 methods; only the direction matters for G1 methods).
+  std::optional<Vec2> start_tangent;
+  std::optional<Vec2> end_tangent;
+
+  static constexpr double kDefaultAlpha = 0.5;
+};
+
+/// How much of the report to compute. Timing a fit should use kNone.
+enum class ReportLevel {
+  kNone,   ///< no report
+  kBasic,  ///< closed-form quantities: linearized energy, joints, regularity certificate
+  kFull,   ///< + quadratures (bending, curvature variation, length) and loop detection
+};
+
+/// Per-segment diagnostics (full report).
+struct SegmentReport {
+  double linearized_energy = 0.0;           ///< ∫|s''(t)|² dt over the piece
+  double bending_energy = 0.0;              ///< ∫κ² ds
+  double curvature_variation_energy = 0.0;  ///< ∫(dκ/ds)² ds
+  double length = 0.0;
+  bool regular = true;                      ///< speed certified positive
+  double min_relative_speed = 0.0;          ///< min |c'(u)| / chord, lower bound from certificate
+  bool has_loop = false;                    ///< self-intersection within the piece
+  bool has_cusp = false;
+  bool has_fold = false;
+};
+
+/// A self-intersection found between or within pieces.
+struct Intersection {
+  std::size_t segment_a = 0;
+  std::size_t segment_b = 0;
+  double u_a = 0.0;
+  double u_b = 0.0;
+  Point point;
+};
+
+/// The report of a fitted spline; fields not computed at the requested level stay nullopt.
+struct Report {
+  std::optional<double> bending_energy;
+  double linearized_energy = 0.0;
+  std::optional<double> curvature_variation_energy;
+  std::optional<double> length;
+  bool regular = true;
+  double max_tangent_angle_jump_deg = 0.0;
+  double max_curvature_jump = 0.0;
+  double min_relative_speed = 0.0;
+  double max_interpolation_residual = 0.0;
+  /// Bending / curvature-variation quadratures that met a vanishing speed are flagged here
+  /// instead of returning a meaningless number.
+  bool energy_singular = false;
+  std::vector<SegmentReport> segments;       ///< full level only
+  std::vector<Intersection> intersections;   ///< full level only
+};
+
+/// What every method returns.
+struct FitResult {
+  std::string method;
+  bool closed = false;
+  nlohmann::json options = nlohmann::json::object();  ///< resolved options, defaults filled in
+  std::vector<Point> points;                          ///< the points actually interpolated
+  std::vector<double> knots;                          ///< t_i at each point (+1 when closed)
+  std::vector<Vec2> tangents;                         ///< unit tangent direction at each point
+  Spline spline;
+  std::optional<Report> report;
+  nlohmann::json method_report = nlohmann::json::object();
+};
+
+}  // namespace fairspline

@@ -1,0 +1,46 @@
+// Spline: a sequence of cubic Bézier pieces on a global parameter.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "fairspline/cubic_bezier.hpp"
+
+namespace fairspline {
+
+/// One piece of a spline: a cubic on the global parameter interval [t0, t1].
+/// `span` is the index of the input point the piece starts from (several pieces may share
+/// a span when a method splits it, e.g. composite Hermite curves).
+struct Segment {
+  CubicBezier bezier;
+  double t0 = 0.0;
+  double t1 = 1.0;
+  std::size_t span = 0;
+};
+
+/// A piecewise cubic curve. Pieces are ordered by parameter and join end to start.
+struct Spline {
+  std::vector<Segment> segments;
+  bool closed = false;
+
+  bool empty() const { return segments.empty(); }
+  double t_begin() const { return segments.front().t0; }
+  double t_end() const { return segments.back().t1; }
+
+  /// Index of the piece containing global parameter t (clamped to the ends;
+  /// at an interior joint the later piece is chosen).
+  std::size_t segment_index(double t) const;
+  /// Local parameter u in [0,1] of t inside piece k.
+  double local_parameter(std::size_t k, double t) const;
+
+  /// Point at global parameter t.
+  Point eval(double t) const;
+  /// Derivatives with respect to the global parameter t (order 1..3).
+  Vec2 derivative(double t, int order = 1) const;
+  /// Signed curvature at global parameter t (parameterization-independent).
+  double curvature(double t) const;
+  /// `count` points at parameters equally spaced in [t_begin, t_end] (count >= 2).
+  std::vector<Point> sample(std::size_t count) const;
+};
+
+}  // namespace fairspline

@@ -1,0 +1,37 @@
+// Shared input checks of all methods (private).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "fairspline/fit.hpp"
+
+namespace fairspline::detail {
+
+/// The checked input of a method: points without a duplicated closing point, and knots.
+struct PreparedInput {
+  std::vector<Point> points;
+  std::vector<double> knots;  ///< points.size() (+1 when closed)
+  bool closed = false;
+  std::size_t spans() const { return knots.size() - 1; }
+};
+
+/// Minimum point counts of a method.
+struct InputRequirements {
+  std::size_t min_points_open = 2;
+  std::size_t min_points_closed = 3;
+  const char* method = "this method";
+};
+
+/// Checks the input and computes knots. Throws Error with the offending index for too few
+/// points, NaN/Inf, consecutive repeated points, bad tangents/kinds arrays or bad knots.
+/// The closing point of a closed curve equal to the first one is dropped silently.
+PreparedInput prepare_input(const FitInput& input, const InputRequirements& req = {});
+
+/// True when a and b are equal to within rounding of their coordinates' magnitude.
+bool coincident(Point a, Point b);
+
+/// Checks a user tangent (start/end/per-point): finite and non-zero. `what` names it.
+void check_tangent(Vec2 v, const char* what, std::size_t index);
+
+}  // namespace fairspline::detail

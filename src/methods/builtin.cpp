@@ -1,0 +1,13 @@
+#include "methods/builtin.hpp"
+
+namespace fairspline::detail {
+
+std::vector<MethodInfo> builtin_methods() {
+  std::vector<MethodInfo> all;
+  for (auto&& group : {li_methods()}) {
+    for (auto&& m : group) all.push_back(m);
+  }
+  return all;
+}
+
+}  // namespace fairspline::detail

@@ -1,0 +1,312 @@
+#include "fairspline/methods/li.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "detail/input.hpp"
+#include "detail/tridiagonal.hpp"
+#include "fairspline/error.hpp"
+
+namespace fairspline {
+
+namespace {
+
+// Per-span coefficients of the normal equations (see docs/methods/li.md):
+//   span i adds to node i and i+1:  diag += 2 s + q,  coupling = s + q,
+//   rhs += (3 s + 2 q) δ_i   with s = w1 / h_i, q = 18 w2 H² / h_i³, δ_i = ΔP_i / h_i.
+struct SpanTerms {
+  double diag;
+  double off;
+  Vec2 rhs;
+};
+
+inline SpanTerms span_terms(Vec2 dp, double h, double w1, double w2h2) {
+  const double inv = 1.0 / h;
+  const double s = w1 * inv;
+  const double q = 18.0 * w2h2 * inv * inv * inv;
+  const Vec2 delta = dp * inv;
+  return {2.0 * s + q, s + q, (3.0 * s + 2.0 * q) * delta};
+}
+
+struct Problem {
+  std::vector<Point> points;
+  std::vector<double> knots;
+  bool closed = false;
+  double w1 = 1.0, w2 = 0.0, h2 = 1.0;  // h2 = H², the knot scale squared
+  std::vector<std::optional<Vec2>> fixed;  // per node (size n); empty = none fixed
+};
+
+std::string singular_message(bool closed) {
+  return std::string(
+             "the curvature-variation energy alone (Li, system 2.16) has no unique minimizer: "
+             "every C1 piecewise-quadratic curve through the points has zero energy, one for "
+             "each start tangent. ") +
+         (closed ? "Clamp a tangent (kinds/tangents or --start-tangent), use an odd number of "
+                   "points, or use li-combined."
+                 : "Give --start-tangent (or clamp a point), or use li-combined.");
+}
+
+// Open system on nodes 0..N-1 with spans between consecutive nodes (span j: node j -> j+1).
+// `node_of(j)` maps the system's node to the problem's point index; spans use the same map.
+template <typename PointAt, typename SpanAt, typename FixedAt>
+void solve_open(std::size_t nodes, PointAt&& point_at, SpanAt&& span_h, FixedAt&& fixed_at,
+                double w1, double w2h2, std::vector<Vec2>& m) {
+  std::vector<double> sub(nodes, 0.0), diag(nodes, 0.0), sup(nodes, 0.0), scratch;
+  m.assign(nodes, Vec2{0.0, 0.0});
+  for (std::size_t j = 0; j + 1 < nodes; ++j) {
+    const SpanTerms t = span_terms(point_at(j + 1) - point_at(j), span_h(j), w1, w2h2);
+    diag[j] += t.diag;
+    diag[j + 1] += t.diag;
+    sup[j] = t.off;
+    sub[j + 1] = t.off;
+    m[j] += t.rhs;
+    m[j + 1] += t.rhs;
+  }
+  // Fixed tangents: identity rows, their couplings moved to the neighbours' right-hand sides.
+  for (std::size_t j = 0; j < nodes; ++j) {
+    const std::optional<Vec2> v = fixed_at(j);
+    if (!v) continue;
+    if (j > 0) {
+      m[j - 1] -= sup[j - 1] * *v;
+      sup[j - 1] = 0.0;
+    }
+    if (j + 1 < nodes) {
+      m[j + 1] -= sub[j + 1] * *v;
+      sub[j + 1] = 0.0;
+    }
+    diag[j] = 1.0;
+    sub[j] = 0.0;
+    sup[j] = 0.0;
+    m[j] = *v;
+  }
+  if (!detail::solve_tridiagonal(sub, diag, sup, m, scratch)) {
+    throw Error(ErrorCode::kSingularSystem,
+                "the Li system is numerically singular for these points (a knot interval is "
+                "too small relative to the others)");
+  }
+}
+
+std::vector<Vec2> solve_tangents(const Problem& pb) {
+  const std::size_t n = pb.points.size();
+  const auto& P = pb.points;
+  const auto& t = pb.knots;
+  auto fixed_at_point = [&](std::size_t i) -> std::optional<Vec2> {
+    return pb.fixed.empty() ? std::nullopt : pb.fixed[i];
+  };
+  std::vector<Vec2> m;
+  if (!pb.closed) {
+    solve_open(
+        n, [&](std::size_t j) { return P[j]; }, [&](std::size_t j) { return t[j + 1] - t[j]; },
+        fixed_at_point, pb.w1, pb.w2 * pb.h2, m);
+    return m;
+  }
+  // Closed: with a fixed node, rotate it to the front and solve an open system on n+1 nodes
+  // whose first and last node are that same fixed point.
+  std::size_t first_fixed = n;
+  for (std::size_t i = 0; i < n && !pb.fixed.empty(); ++i) {
+    if (pb.fixed[i]) {
+      first_fixed = i;
+      break;
+    }
+  }
+  if (first_fixed < n) {
+    const std::size_t r = first_fixed;
+    std::vector<Vec2> mr;
+    solve_open(
+        n + 1, [&](std::size_t j) { return P[(j + r) % n]; },
+        [&](std::size_t j) {
+          const std::size_t s = (j + r) % n;
+          return t[s + 1] - t[s];
+        },
+        [&](std::size_t j) { return fixed_at_point((j + r) % n); }, pb.w1, pb.w2 * pb.h2, mr);
+    m.resize(n);
+    for (std::size_t j = 0; j < n; ++j) m[(j + r) % n] = mr[j];
+    return m;
+  }
+  if (pb.w1 == 0.0) {
+    if (n % 2 == 0) throw Error(ErrorCode::kSingularSystem, singular_message(true));
+    // m_i + m_{i+1} = 2 δ_i around an odd cycle has the unique solution
+    // m_0 = Σ_k (-1)^k δ_k, then m_{i+1} = 2 δ_i - m_i (zero energy).
+    m.assign(n, Vec2{0.0, 0.0});
+    Vec2 acc{0.0, 0.0};
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec2 delta = (P[(k + 1) % n] - P[k]) / (t[k + 1] - t[k]);
+      acc += (k % 2 == 0 ? 1.0 : -1.0) * delta;
+    }
+    m[0] = acc;
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+      const Vec2 delta = (P[k + 1] - P[k]) / (t[k + 1] - t[k]);
+      m[k + 1] = 2.0 * delta - m[k];
+    }
+    return m;
+  }
+  std::vector<double> off(n), diag(n, 0.0);
+  m.assign(n, Vec2{0.0, 0.0});
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    const SpanTerms s = span_terms(P[j] - P[i], t[i + 1] - t[i], pb.w1, pb.w2 * pb.h2);
+    diag[i] += s.diag;
+    diag[j] += s.diag;
+    off[i] = s.off;
+    m[i] += s.rhs;
+    m[j] += s.rhs;
+  }
+  if (!detail::solve_cyclic_symmetric(off, diag, m)) {
+    throw Error(ErrorCode::kSingularSystem, "the closed Li system is numerically singular");
+  }
+  return m;
+}
+
+}  // namespace
+
+FitResult fit_li(const FitInput& input, const LiOptions& options, ReportLevel level) {
+  const double w1 = options.strain_weight, w2 = options.curvature_variation_weight;
+  if (!(w1 >= 0.0 && w2 >= 0.0 && std::isfinite(w1) && std::isfinite(w2) && w1 + w2 > 0.0)) {
+    throw Error(ErrorCode::kBadOption,
+                "Li weights must be finite and non-negative with a positive sum, got (" +
+                    std::to_string(w1) + ", " + std::to_string(w2) + ")");
+  }
+  detail::PreparedInput prepared = detail::prepare_input(input, {2, 3, "the Li method"});
+  Problem pb;
+  pb.points = std::move(prepared.points);
+  pb.knots = std::move(prepared.knots);
+  pb.closed = prepared.closed;
+  pb.w1 = w1;
+  pb.w2 = w2;
+  const std::size_t n = pb.points.size();
+  const std::size_t spans = pb.closed ? n : n - 1;
+  const double H = (pb.knots.back() - pb.knots.front()) / static_cast<double>(spans);
+  pb.h2 = H * H;
+
+  // Clamped tangents.
+  std::vector<std::size_t> clamped;
+  auto fix = [&](std::size_t i, Vec2 v) {
+    if (pb.fixed.empty()) pb.fixed.resize(n);
+    pb.fixed[i] = v;
+  };
+  for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
+    if (input.kinds[i] == PointKind::kCorner) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "point " + std::to_string(i) + " is a corner, but the Li methods build one C1 "
+                  "curve; split the input at the corner or use min-energy",
+                  i);
+    }
+    if (input.kinds[i] == PointKind::kClamped) fix(i, *input.tangents[i]);
+  }
+  if (input.start_tangent) fix(0, *input.start_tangent);
+  if (input.end_tangent) fix(n - 1, *input.end_tangent);
+  for (std::size_t i = 0; i < pb.fixed.size(); ++i) {
+    if (pb.fixed[i]) clamped.push_back(i);
+  }
+  if (w1 == 0.0 && clamped.empty() && !(pb.closed && n % 2 == 1)) {
+    throw Error(ErrorCode::kSingularSystem, singular_message(pb.closed));
+  }
+
+  const std::vector<Vec2> m = solve_tangents(pb);
+
+  FitResult result;
+  result.closed = pb.closed;
+  result.spline.closed = pb.closed;
+  result.spline.segments.resize(spans);
+  result.tangents.resize(n);
+  double strain = 0.0, third = 0.0;
+  const auto& P = pb.points;
+  const auto& t = pb.knots;
+  for (std::size_t i = 0; i < spans; ++i) {
+    const std::size_t j = (i + 1 == n) ? 0 : i + 1;
+    const double h = t[i + 1] - t[i];
+    Segment& seg = result.spline.segments[i];
+    seg.bezier = {{P[i], P[i] + (h / 3.0) * m[i], P[j] - (h / 3.0) * m[j], P[j]}};
+    seg.t0 = t[i];
+    seg.t1 = t[i + 1];
+    seg.span = i;
+    if (level != ReportLevel::kNone) {
+      const Vec2 delta = (P[j] - P[i]) / h;
+      strain += (4.0 / h) * (norm2(m[i]) + norm2(m[j]) + dot(m[i], m[j]) -
+                             3.0 * dot(m[i] + m[j], delta) + 3.0 * norm2(delta));
+      third += (36.0 / (h * h * h)) * norm2(m[i] + m[j] - 2.0 * delta);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double len = norm(m[i]);
+    if (len > 0.0) {
+      result.tangents[i] = m[i] / len;
+    } else {
+      // Zero derivative (a cusp of the C1 curve): report the chord direction instead.
+      const Vec2 chord = (i + 1 < n ? P[i + 1] : P[0]) - (i > 0 ? P[i - 1] : P[n - 1]);
+      result.tangents[i] = normalized(pb.closed || (i > 0 && i + 1 < n) ? chord
+                                      : i == 0                          ? P[1] - P[0]
+                                                                        : P[n - 1] - P[n - 2]);
+    }
+  }
+  result.points = std::move(pb.points);
+  result.knots = std::move(pb.knots);
+  result.method_report = {{"weights", {w1, w2}},
+                          {"knot_scale", H},
+                          {"system", pb.closed ? "cyclic-tridiagonal" : "tridiagonal"},
+                          {"clamped", clamped}};
+  if (level != ReportLevel::kNone) {
+    result.method_report["strain_term"] = strain;
+    result.method_report["third_derivative_term"] = third;
+    result.method_report["objective"] = w1 * strain + w2 * pb.h2 * third;
+  }
+  return result;
+}
+
+}  // namespace fairspline
+
+// ---- registry entries ----
+#include "methods/builtin.hpp"
+
+namespace fairspline::detail {
+
+std::vector<MethodInfo> li_methods() {
+  const std::string paper =
+      "J. Li, Constructing planar C1 cubic Hermite interpolation curves via approximate energy "
+      "minimization, Section 2";
+  MethodInfo strain{
+      "li-strain",
+      "C1 cubic minimizing the linearized strain energy ∫|s''|² dt: the natural (closed: "
+      "periodic) C2 cubic spline on the knots (Li 2.13, 2.20).",
+      paper + ", system (2.13)/(2.20)",
+      {},
+      [](const FitInput& in, const nlohmann::json&, ReportLevel level) {
+        return fit_li(in, {1.0, 0.0}, level);
+      }};
+  MethodInfo combined{
+      "li-combined",
+      "C1 cubic minimizing w1·∫|s''|² dt + w2·H²·∫|s'''|² dt (Li's combined energy 2.17, 2.21 for "
+      "weights 1,1 and uniform knots).",
+      paper + ", system (2.17)/(2.21)",
+      {OptionSpec{"weights",
+                  OptionType::kNumberList,
+                  nlohmann::json::array({1.0, 1.0}),
+                  0.0,
+                  std::nullopt,
+                  {},
+                  "[w1, w2]: weights of the strain and curvature-variation terms (non-negative, "
+                  "w1 > 0 or a clamped tangent)"}},
+      [](const FitInput& in, const nlohmann::json& o, ReportLevel level) {
+        const auto& w = o.at("weights");
+        if (w.size() != 2) {
+          throw Error(ErrorCode::kBadOption,
+                      "option 'weights' of li-combined must have two entries [w1, w2], got " +
+                          w.dump());
+        }
+        return fit_li(in, {w[0].get<double>(), w[1].get<double>()}, level);
+      }};
+  MethodInfo curvature{
+      "li-curvature-variation",
+      "C1 cubic minimizing ∫|s'''|² dt alone (Li 2.16): a C1 piecewise-quadratic curve, unique "
+      "only with a clamped start tangent (or a closed curve with an odd number of points).",
+      paper + ", system (2.16)",
+      {},
+      [](const FitInput& in, const nlohmann::json&, ReportLevel level) {
+        return fit_li(in, {0.0, 1.0}, level);
+      }};
+  return {strain, combined, curvature};
+}
+
+}  // namespace fairspline::detail

@@ -1,0 +1,200 @@
+#include "fairspline/registry.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "fairspline/diagnostics.hpp"
+#include "fairspline/error.hpp"
+#include "methods/builtin.hpp"
+
+namespace fairspline {
+
+std::string_view option_type_name(OptionType type) {
+  switch (type) {
+    case OptionType::kNumber: return "number";
+    case OptionType::kInteger: return "integer";
+    case OptionType::kBoolean: return "boolean";
+    case OptionType::kChoice: return "choice";
+    case OptionType::kString: return "string";
+    case OptionType::kNumberList: return "number_list";
+    case OptionType::kChoiceOrNumber: return "choice_or_number";
+  }
+  return "unknown";
+}
+
+const std::vector<MethodInfo>& methods() {
+  static const std::vector<MethodInfo> registry = detail::builtin_methods();
+  return registry;
+}
+
+std::string_view default_method_name() { return "li-combined"; }
+
+const MethodInfo& find_method(std::string_view name) {
+  for (const MethodInfo& m : methods()) {
+    if (m.name == name) return m;
+  }
+  std::string known;
+  for (const MethodInfo& m : methods()) known += (known.empty() ? "" : ", ") + m.name;
+  throw Error(ErrorCode::kUnknownMethod,
+              "unknown method '" + std::string(name) + "'; available: " + known);
+}
+
+namespace {
+
+std::string bounds_text(const OptionSpec& spec) {
+  std::string s;
+  if (spec.min && spec.max) {
+    s = " in [" + nlohmann::json(*spec.min).dump() + ", " + nlohmann::json(*spec.max).dump() + "]";
+  } else if (spec.min) {
+    s = " >= " + nlohmann::json(*spec.min).dump();
+  } else if (spec.max) {
+    s = " <= " + nlohmann::json(*spec.max).dump();
+  }
+  return s;
+}
+
+std::string choices_text(const OptionSpec& spec) {
+  std::string s;
+  for (const auto& c : spec.choices) s += (s.empty() ? "" : ", ") + c;
+  return s;
+}
+
+[[noreturn]] void bad(const std::string& method, const OptionSpec& spec, const nlohmann::json& v,
+                      const std::string& expected) {
+  throw Error(ErrorCode::kBadOption, "option '" + spec.name + "' of " + method + " must be " +
+                                         expected + ", got " + v.dump());
+}
+
+bool number_ok(const OptionSpec& spec, double x) {
+  return std::isfinite(x) && (!spec.min || x >= *spec.min) && (!spec.max || x <= *spec.max);
+}
+
+nlohmann::json check_value(const std::string& method, const OptionSpec& spec,
+                           const nlohmann::json& v) {
+  switch (spec.type) {
+    case OptionType::kNumber:
+      if (!v.is_number() || !number_ok(spec, v.get<double>())) {
+        bad(method, spec, v, "a finite number" + bounds_text(spec));
+      }
+      return v.get<double>();
+    case OptionType::kInteger:
+      if (!v.is_number_integer() && !(v.is_number() && std::floor(v.get<double>()) == v.get<double>())) {
+        bad(method, spec, v, "an integer" + bounds_text(spec));
+      }
+      if (!number_ok(spec, v.get<double>())) bad(method, spec, v, "an integer" + bounds_text(spec));
+      return v.get<long long>();
+    case OptionType::kBoolean:
+      if (v.is_boolean()) return v;
+      if (v.is_number_integer() && (v.get<long long>() == 0 || v.get<long long>() == 1)) {
+        return v.get<long long>() == 1;
+      }
+      if (v.is_string() && (v == "true" || v == "false")) return v == "true";
+      bad(method, spec, v, "true or false");
+    case OptionType::kChoice:
+      for (const auto& c : spec.choices) {
+        if (v.is_string() && v.get<std::string>() == c) return v;
+      }
+      bad(method, spec, v, "one of " + choices_text(spec));
+    case OptionType::kString:
+      if (!v.is_string()) bad(method, spec, v, "a string");
+      return v;
+    case OptionType::kNumberList:
+      if (!v.is_array()) bad(method, spec, v, "a list of numbers" + bounds_text(spec));
+      for (const auto& x : v) {
+        if (!x.is_number() || !number_ok(spec, x.get<double>())) {
+          bad(method, spec, v, "a list of finite numbers" + bounds_text(spec));
+        }
+      }
+      return v;
+    case OptionType::kChoiceOrNumber:
+      if (v.is_number() && number_ok(spec, v.get<double>())) return v.get<double>();
+      for (const auto& c : spec.choices) {
+        if (v.is_string() && v.get<std::string>() == c) return v;
+      }
+      bad(method, spec, v, "one of " + choices_text(spec) + " or a number" + bounds_text(spec));
+  }
+  bad(method, spec, v, "valid");
+}
+
+void check_finite_result(const FitResult& r) {
+  for (std::size_t k = 0; k < r.spline.segments.size(); ++k) {
+    const Segment& s = r.spline.segments[k];
+    bool ok = std::isfinite(s.t0) && std::isfinite(s.t1);
+    for (const Point& p : s.bezier.p) ok = ok && is_finite(p);
+    if (!ok) {
+      throw Error(ErrorCode::kNonFinite,
+                  r.method + " produced a non-finite control point in segment " +
+                      std::to_string(k) + " (span " + std::to_string(s.span) +
+                      "); the input is likely beyond the range of double precision",
+                  s.span);
+    }
+  }
+  for (std::size_t i = 0; i < r.tangents.size(); ++i) {
+    if (!is_finite(r.tangents[i])) {
+      throw Error(ErrorCode::kNonFinite,
+                  r.method + " produced a non-finite tangent at point " + std::to_string(i), i);
+    }
+  }
+}
+
+}  // namespace
+
+nlohmann::json resolve_options(const MethodInfo& method, const nlohmann::json& given) {
+  if (!given.is_null() && !given.is_object()) {
+    throw Error(ErrorCode::kBadOption, "options must be a JSON object, got " + given.dump());
+  }
+  nlohmann::json out = nlohmann::json::object();
+  if (given.is_object()) {
+    for (const auto& [key, value] : given.items()) {
+      const OptionSpec* spec = nullptr;
+      for (const auto& s : method.options) {
+        if (s.name == key) spec = &s;
+      }
+      if (!spec) {
+        std::string known;
+        for (const auto& s : method.options) known += (known.empty() ? "" : ", ") + s.name;
+        throw Error(ErrorCode::kUnknownOption,
+                    "method " + method.name + " has no option '" + key + "'" +
+                        (known.empty() ? " (it takes no options)" : "; its options: " + known));
+      }
+      out[key] = check_value(method.name, *spec, value);
+    }
+  }
+  for (const auto& s : method.options) {
+    if (!out.contains(s.name) && !s.default_value.is_null()) out[s.name] = s.default_value;
+  }
+  return out;
+}
+
+nlohmann::json method_schema(const MethodInfo& method) {
+  nlohmann::json opts = nlohmann::json::array();
+  for (const auto& s : method.options) {
+    nlohmann::json o = {{"name", s.name},
+                        {"type", option_type_name(s.type)},
+                        {"default", s.default_value},
+                        {"doc", s.doc}};
+    if (s.min) o["min"] = *s.min;
+    if (s.max) o["max"] = *s.max;
+    if (!s.choices.empty()) o["choices"] = s.choices;
+    opts.push_back(std::move(o));
+  }
+  return {{"name", method.name},
+          {"description", method.description},
+          {"paper", method.paper},
+          {"default", method.name == default_method_name()},
+          {"options", std::move(opts)}};
+}
+
+FitResult fit(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
+              ReportLevel level) {
+  const MethodInfo& method = find_method(method_name);
+  nlohmann::json resolved = resolve_options(method, options);
+  FitResult result = method.fit(input, resolved, level);
+  result.method = method.name;
+  result.options = std::move(resolved);
+  check_finite_result(result);
+  if (level != ReportLevel::kNone) result.report = make_report(result.spline, result.points, level);
+  return result;
+}
+
+}  // namespace fairspline

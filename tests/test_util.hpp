@@ -1,0 +1,65 @@
+// Small helpers shared by the test files.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "fairspline/fit.hpp"
+#include "fairspline/vec2.hpp"
+
+namespace fairspline::testing {
+
+/// Random walk with turn angles uniform in ±max_turn_deg and steps uniform in [0.5, 2].
+inline std::vector<Point> random_walk(std::size_t n, std::uint64_t seed, double max_turn_deg = 120) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> turn(-max_turn_deg * std::numbers::pi / 180,
+                                              max_turn_deg * std::numbers::pi / 180);
+  std::uniform_real_distribution<double> step(0.5, 2.0);
+  std::vector<Point> pts;
+  pts.reserve(n);
+  Point p{0, 0};
+  double heading = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    pts.push_back(p);
+    heading += turn(rng);
+    p += step(rng) * from_angle(heading);
+  }
+  return pts;
+}
+
+/// n points on an ellipse (closed polygon without the repeated first point).
+inline std::vector<Point> ellipse(std::size_t n, double a = 2, double b = 1) {
+  std::vector<Point> pts;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+    pts.push_back({a * std::cos(t), b * std::sin(t)});
+  }
+  return pts;
+}
+
+/// The tangent vector s'(t_i) of a C1 result at each point, read off the Bézier pieces.
+inline std::vector<Vec2> hermite_tangents(const FitResult& r) {
+  const auto& segs = r.spline.segments;
+  std::vector<Vec2> m(r.points.size());
+  for (std::size_t k = 0; k < segs.size(); ++k) {
+    const double h = segs[k].t1 - segs[k].t0;
+    m[segs[k].span] = 3.0 / h * (segs[k].bezier.p[1] - segs[k].bezier.p[0]);
+  }
+  if (!r.closed) {
+    const auto& last = segs.back();
+    m.back() = 3.0 / (last.t1 - last.t0) * (last.bezier.p[3] - last.bezier.p[2]);
+  }
+  return m;
+}
+
+/// Largest coordinate magnitude of a point set (scale for relative tolerances).
+inline double scale_of(const std::vector<Point>& pts) {
+  double s = 0;
+  for (const Point& p : pts) s = std::max({s, std::abs(p.x), std::abs(p.y)});
+  return s;
+}
+
+}  // namespace fairspline::testing
