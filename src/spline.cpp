@@ -7,6 +7,16 @@
 
 namespace fairspline {
 
+double Spline::t_begin() const {
+  if (segments.empty()) throw Error(ErrorCode::kInvalidArgument, "the spline has no segments");
+  return segments.front().t0;
+}
+
+double Spline::t_end() const {
+  if (segments.empty()) throw Error(ErrorCode::kInvalidArgument, "the spline has no segments");
+  return segments.back().t1;
+}
+
 std::size_t Spline::segment_index(double t) const {
   if (segments.empty()) throw Error(ErrorCode::kInvalidArgument, "the spline has no segments");
   // First segment whose end is beyond t; joints go to the later piece.

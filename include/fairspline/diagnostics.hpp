@@ -26,21 +26,23 @@ struct DiagnosticsOptions {
   /// minimum speed (so RegularityCertificate::speed_lower is informative, not just positive).
   double certificate_tightness = 0.5;
   /// Intersection search: sub-pieces are subdivided until flat to
-  /// intersection_accuracy·(control polygon length), then refined by Newton; a hit is accepted
-  /// when the two pieces are within a few times that distance.
+  /// tol = intersection_accuracy·(larger control polygon length of the two pieces); where their
+  /// chords cross, Newton refines the crossing on the pieces and it is accepted when they are
+  /// within 4·tol there. Transversal crossings come out to rounding; an exact tangential contact
+  /// is found (located to about sqrt(tol)), a near miss whose chords do not cross is not.
   double intersection_accuracy = 1e-9;
-  /// Subdivision depth limit of the intersection search (near a joint of two pieces whose
-  /// tangents are opposite the search stops there and reports nothing).
+  /// Subdivision depth limit of the intersection search (reached only near tangential contacts
+  /// and at joints where consecutive pieces leave in the same direction).
   int intersection_max_depth = 40;
 };
 
 /// Result of certifying one piece.
 struct RegularityCertificate {
-  bool regular = false;       ///< proved: speed > min_relative_speed·chord on [0,1]
-  double speed_lower = 0.0;   ///< proven lower bound of |c'(u)| / chord
-  double speed_min = 0.0;     ///< smallest |c'(u)| / chord found (an upper bound of the min)
-  double u_at_min = 0.0;      ///< where speed_min is attained
-  int subdivisions = 0;       ///< hodograph subdivisions used
+  bool regular = false;      ///< proved: speed > min_relative_speed·chord on [0,1]
+  double speed_lower = 0.0;  ///< proven lower bound of |c'(u)| / chord
+  double speed_min = 0.0;    ///< smallest |c'(u)| / chord found (an upper bound of the min)
+  double u_at_min = 0.0;     ///< where speed_min is attained
+  int subdivisions = 0;      ///< hodograph subdivisions used
 };
 
 /// Proves regularity from the Bernstein coefficients of the hodograph: on a sub-interval the
@@ -67,11 +69,16 @@ bool has_fold(const CubicBezier& b, const DiagnosticsOptions& options = {});
 
 /// All self-intersections of a spline: within a piece (loops, segment_a == segment_b,
 /// u_a < u_b) and between pieces (segment_a < segment_b). The joint shared by consecutive
-/// pieces (and, for closed splines, by the last and first) is not an intersection, nor is the
-/// tangential contact of the two pieces there; pieces of zero extent are skipped (their
-/// neighbours count as consecutive). Each intersection is reported once; one exactly at a joint
-/// is named by the later piece at u = 0. Bounding-box sweep along the longer axis of the curve:
-/// O(n log n) for curves whose pieces do not all overlap.
+/// pieces (and, for closed splines, by the last and first) is not an intersection, nor is any
+/// contact connected to it: where the two pieces leave the joint into the same half-plane (a
+/// cusp joint), the stretch next to the joint along which they stay within 4·tol of each other
+/// (see DiagnosticsOptions::intersection_accuracy) belongs to the joint. Pieces of zero extent
+/// are skipped (their neighbours count as consecutive). Each intersection is reported once; one
+/// exactly at a joint is named by the later piece at u = 0. Degenerate overlaps of
+/// non-consecutive pieces (one retracing the other along a common arc) are not enumerated: they
+/// yield one or a few hits on the common arc; a straight piece retracing itself has a fold, not
+/// a loop. Bounding-box sweep along the longer axis of the curve: O(n log n) for curves whose
+/// pieces do not all overlap.
 std::vector<Intersection> find_self_intersections(const Spline& s,
                                                   const DiagnosticsOptions& options = {});
 

@@ -24,8 +24,9 @@ struct Spline {
   bool closed = false;
 
   bool empty() const { return segments.empty(); }
-  double t_begin() const { return segments.front().t0; }
-  double t_end() const { return segments.back().t1; }
+  /// Parameter range; both throw Error on an empty spline.
+  double t_begin() const;
+  double t_end() const;
 
   /// Index of the piece containing global parameter t (clamped to the ends;
   /// at an interior joint the later piece is chosen).

@@ -1,0 +1,281 @@
+#include "detail/intersections.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace fairspline::detail {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+bool boxes_overlap(const BBox& a, const BBox& b, double margin) {
+  return a.min.x <= b.max.x + margin && b.min.x <= a.max.x + margin &&
+         a.min.y <= b.max.y + margin && b.min.y <= a.max.y + margin;
+}
+
+/// Largest distance of the inner control points from the chord (from p0 when the chord is 0).
+double flatness(const CubicBezier& c) {
+  const Vec2 d = c.p[3] - c.p[0];
+  const double len = norm(d);
+  if (len == 0.0) return std::max(distance(c.p[0], c.p[1]), distance(c.p[0], c.p[2]));
+  return std::max(std::abs(cross(d, c.p[1] - c.p[0])), std::abs(cross(d, c.p[2] - c.p[0]))) / len;
+}
+
+/// Angular interval (centre, half width) of the nonzero vectors v[0..n) (the first nonzero one
+/// is the reference); `shortest` receives the length of the shortest nonzero vector. Returns 0
+/// if all vectors are zero, 1 if the interval is narrower than pi, 2 if wide.
+int cone(const Vec2* v, int n, double& centre, double& half, double& shortest) {
+  int ref = -1;
+  shortest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k)
+    if (norm2(v[k]) > 0.0) {
+      if (ref < 0) ref = k;
+      shortest = std::min(shortest, norm(v[k]));
+    }
+  if (ref < 0) return 0;
+  double lo = 0.0, hi = 0.0;
+  for (int k = 0; k < n; ++k) {
+    if (norm2(v[k]) == 0.0) continue;
+    const double a = signed_angle(v[ref], v[k]);
+    lo = std::min(lo, a);
+    hi = std::max(hi, a);
+  }
+  if (hi - lo >= std::numbers::pi) return 2;
+  centre = angle(v[ref]) + 0.5 * (lo + hi);
+  half = 0.5 * (hi - lo);
+  return 1;
+}
+
+/// True when the control polygons of a (ending at J when a_ends_at_joint, else starting there)
+/// and b (starting at J when b_starts_at_joint, else ending there) lie in cones from J that
+/// meet only at J, with a margin for the rounding of the directions (control points of
+/// magnitude M are known to about eps·M, so a direction of a vector of length r to eps·M/r):
+/// cones touching along a boundary ray are not separated (the pieces may touch there).
+bool separated_at_joint(const CubicBezier& a, bool a_ends_at_joint, const CubicBezier& b,
+                        bool b_starts_at_joint) {
+  const Point j = a_ends_at_joint ? a.p[3] : a.p[0];
+  Vec2 va[3], vb[3];
+  double magnitude = 0.0;
+  for (const CubicBezier* c : {&a, &b})
+    for (const Point& q : c->p) magnitude = std::max({magnitude, std::abs(q.x), std::abs(q.y)});
+  for (int k = 0; k < 3; ++k) {
+    va[k] = (a_ends_at_joint ? a.p[2 - k] : a.p[k + 1]) - j;
+    vb[k] = (b_starts_at_joint ? b.p[k + 1] : b.p[2 - k]) - j;
+  }
+  double ca = 0.0, ha = 0.0, ra = 0.0, cb = 0.0, hb = 0.0, rb = 0.0;
+  const int ka = cone(va, 3, ca, ha, ra), kb = cone(vb, 3, cb, hb, rb);
+  if (ka == 0 || kb == 0) return true;  // a sub-piece collapsed onto J
+  if (ka == 2 || kb == 2) return false;
+  const double d = std::abs(std::remainder(ca - cb, 2.0 * std::numbers::pi));
+  const double margin = 64.0 * kEps * (1.0 + magnitude / std::min(ra, rb));
+  return d > ha + hb + margin;
+}
+
+/// Newton on A(s) − B(t) = 0 from (s, t), staying in [0,1]². Returns the final distance.
+double newton(const CubicBezier& A, const CubicBezier& B, double& s, double& t) {
+  Vec2 f = A.eval(s) - B.eval(t);
+  double dist = norm(f);
+  for (int it = 0; it < 12 && dist > 0.0; ++it) {
+    const Vec2 c1 = A.d1(s), c2 = -B.d1(t);
+    const double det = cross(c1, c2);
+    if (!(std::abs(det) > 64.0 * kEps * norm(c1) * norm(c2))) break;  // tangential
+    const Vec2 r = -f;
+    const double ns = std::clamp(s + cross(r, c2) / det, 0.0, 1.0);
+    const double nt = std::clamp(t + cross(c1, r) / det, 0.0, 1.0);
+    const Vec2 nf = A.eval(ns) - B.eval(nt);
+    const double nd = norm(nf);
+    if (!(nd < dist)) break;
+    s = ns;
+    t = nt;
+    f = nf;
+    dist = nd;
+  }
+  return dist;
+}
+
+/// Direction in which c leaves c.p[0]: the first non-vanishing of p1−p0, p2−p0, p3−p0.
+Vec2 leaving_direction(const CubicBezier& c) {
+  for (int k = 1; k < 4; ++k)
+    if (norm2(c.p[k] - c.p[0]) > 0.0) return c.p[k] - c.p[0];
+  return {};
+}
+
+/// Distance from p to c, by Newton projection started at s (updated; clamped to [0,1]).
+double project(const CubicBezier& c, Point p, double& s) {
+  for (int it = 0; it < 16; ++it) {
+    const Vec2 d = c.eval(s) - p, v = c.d1(s);
+    const double g = dot(d, v), h = dot(v, v) + dot(d, c.d2(s));
+    if (!(h > 0.0)) break;
+    const double ns = std::clamp(s - g / h, 0.0, 1.0);
+    if (ns == s) break;
+    s = ns;
+  }
+  return distance(c.eval(s), p);
+}
+
+/// l1 and l2 both start at the joint J. The largest t such that l2 stays within `accept` of l1
+/// on [0, t] (doubling then bisection from J; the contact zone is connected to J).
+double contact_zone(const CubicBezier& l1, const CubicBezier& l2, double accept) {
+  double s = 0.0;
+  auto near = [&](double t) {
+    double guess = s;
+    const bool ok = project(l1, l2.eval(t), guess) <= accept;
+    if (ok) s = guess;
+    return ok;
+  };
+  double lo = 0.0, hi = std::ldexp(1.0, -40);
+  while (hi < 1.0 && near(hi)) {
+    lo = hi;
+    hi = std::min(1.0, 2.0 * hi);
+  }
+  if (hi == 1.0 && near(1.0)) return 1.0;
+  for (int it = 0; it < 40 && hi - lo > kEps * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (near(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+}  // namespace
+
+void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joints, double tol,
+                      int max_depth, IntersectionWorkspace& ws, std::vector<CurveHit>& out) {
+  auto& stack = ws.stack;
+  auto& hits = ws.hits;
+  stack.clear();
+  hits.clear();
+  stack.push_back({A, B, 0.0, 1.0, 0.0, 1.0, 0});
+  const double accept = 4.0 * tol;
+  while (!stack.empty()) {
+    const IntersectionWorkspace::Cell c = stack.back();
+    stack.pop_back();
+    if (!boxes_overlap(c.a.control_bbox(), c.b.control_bbox(), tol)) continue;
+    const bool end_start = (joints & kEndToStart) && c.a1 == 1.0 && c.b0 == 0.0;
+    const bool start_end = (joints & kStartToEnd) && c.a0 == 0.0 && c.b1 == 1.0;
+    if (end_start != start_end) {  // exactly one shared joint in this cell
+      if (separated_at_joint(c.a, end_start, c.b, end_start)) continue;
+      if (c.depth >= max_depth) continue;  // cusp joint: overlap at J is not a crossing
+    }
+    const bool flat_a = flatness(c.a) <= tol, flat_b = flatness(c.b) <= tol;
+    const bool has_joint = end_start || start_end;
+    if ((flat_a && flat_b && !has_joint) || c.depth >= max_depth) {
+      // Intersect the chords; a hit seeds Newton on the original pieces.
+      const Vec2 r = c.a.p[3] - c.a.p[0], w = c.b.p[3] - c.b.p[0], q = c.b.p[0] - c.a.p[0];
+      const double den = cross(r, w);
+      const double lr = norm(r), lw = norm(w);
+      double sa = 0.5, sb = 0.5;
+      if (std::abs(den) > 64.0 * kEps * lr * lw) {
+        sa = cross(q, w) / den;
+        sb = cross(q, r) / den;
+        const double slack_a = lr > 0.0 ? 2.0 * tol / lr : 1.0;
+        const double slack_b = lw > 0.0 ? 2.0 * tol / lw : 1.0;
+        if (sa < -slack_a || sa > 1.0 + slack_a || sb < -slack_b || sb > 1.0 + slack_b) continue;
+        sa = std::clamp(sa, 0.0, 1.0);
+        sb = std::clamp(sb, 0.0, 1.0);
+      }
+      double s = c.a0 + sa * (c.a1 - c.a0), t = c.b0 + sb * (c.b1 - c.b0);
+      const double dist = newton(A, B, s, t);
+      if (!(dist <= accept)) continue;
+      const Point p = 0.5 * (A.eval(s) + B.eval(t));
+      // Newton may slide into a shared joint from a neighbouring cell: not a crossing.
+      if ((joints & kEndToStart) && distance(p, A.p[3]) <= 4.0 * tol && s > 0.5 && t < 0.5)
+        continue;
+      if ((joints & kStartToEnd) && distance(p, A.p[0]) <= 4.0 * tol && s < 0.5 && t > 0.5)
+        continue;
+      hits.push_back({s, t, p});
+      continue;
+    }
+    // Subdivide the non-flat pieces (both when a joint must be isolated).
+    const double am = 0.5 * (c.a0 + c.a1), bm = 0.5 * (c.b0 + c.b1);
+    const bool split_a = !flat_a || has_joint, split_b = !flat_b || has_joint;
+    const auto [a0, a1] = split_a ? c.a.split(0.5) : std::pair{c.a, c.a};
+    const auto [b0, b1] = split_b ? c.b.split(0.5) : std::pair{c.b, c.b};
+    const int d = c.depth + 1;
+    if (split_a && split_b) {
+      stack.push_back({a0, b0, c.a0, am, c.b0, bm, d});
+      stack.push_back({a0, b1, c.a0, am, bm, c.b1, d});
+      stack.push_back({a1, b0, am, c.a1, c.b0, bm, d});
+      stack.push_back({a1, b1, am, c.a1, bm, c.b1, d});
+    } else if (split_a) {
+      stack.push_back({a0, c.b, c.a0, am, c.b0, c.b1, d});
+      stack.push_back({a1, c.b, am, c.a1, c.b0, c.b1, d});
+    } else {
+      stack.push_back({c.a, b0, c.a0, c.a1, c.b0, bm, d});
+      stack.push_back({c.a, b1, c.a0, c.a1, bm, c.b1, d});
+    }
+  }
+  // Pieces leaving a shared joint J into the same half-plane touch tangentially near J (a
+  // cusp joint): the hits in that contact zone are the joint, not crossings.
+  for (unsigned joint : {unsigned{kEndToStart}, unsigned{kStartToEnd}}) {
+    if (!(joints & joint)) continue;
+    const bool end_start = joint == kEndToStart;
+    const CubicBezier l1 = end_start ? A.reversed() : A;  // both leave J at parameter 0
+    const CubicBezier l2 = end_start ? B : B.reversed();
+    if (!(dot(leaving_direction(l1), leaving_direction(l2)) > 0.0)) continue;
+    const double t_zone = contact_zone(l1, l2, accept);
+    const Point j = l2.p[0];
+    const double radius = distance(l2.eval(t_zone), j) + accept;
+    std::erase_if(hits, [&](const CurveHit& h) {
+      const double t = end_start ? h.u_b : 1.0 - h.u_b;
+      return t <= t_zone && distance(h.point, j) <= radius;
+    });
+  }
+  // Merge duplicates (neighbouring cells converge to the same point).
+  std::sort(hits.begin(), hits.end(),
+            [](const CurveHit& x, const CurveHit& y) { return x.u_a < y.u_a; });
+  // One point of the plane is one intersection; where B passes it twice (retracing), keep the
+  // smaller parameters so the choice does not depend on rounding.
+  const std::size_t first = out.size();
+  for (const CurveHit& h : hits) {
+    bool dup = false;
+    for (std::size_t i = first; i < out.size(); ++i)
+      if (distance(out[i].point, h.point) <= 16.0 * tol) {
+        if (h.u_b < out[i].u_b - 16.0 * kEps) out[i] = h;
+        dup = true;
+        break;
+      }
+    if (!dup) out.push_back(h);
+  }
+}
+
+bool self_intersection(const CubicBezier& b, double tol, double& s, double& t) {
+  // Power form b(u) = a0 + a1 u + a2 u² + a3 u³; for s ≠ t,
+  // (b(s) − b(t))/(s − t) = a1 + a2 σ + a3 (σ² − π) with σ = s + t, π = s t.
+  const Vec2 a1 = 3.0 * (b.p[1] - b.p[0]);
+  const Vec2 a2 = 3.0 * (b.p[2] - 2.0 * b.p[1] + b.p[0]);
+  const Vec2 a3 = b.p[3] - 3.0 * b.p[2] + 3.0 * b.p[1] - b.p[0];
+  const double k32 = cross(a3, a2);
+  if (!(std::abs(k32) > 64.0 * kEps * norm(a3) * norm(a2))) return false;
+  double sigma = -cross(a3, a1) / k32;
+  double pi = sigma * sigma + cross(a1, a2) / k32;  // σ² − π = cross(a2,a1)/cross(a3,a2)
+  // Polish (σ, π) by Newton on G(σ, π) = a1 + a2 σ + a3 (σ² − π) = 0.
+  for (int it = 0; it < 3; ++it) {
+    const Vec2 g = a1 + sigma * a2 + (sigma * sigma - pi) * a3;
+    const Vec2 js = a2 + 2.0 * sigma * a3, jp = -a3;
+    const double det = cross(js, jp);
+    if (det == 0.0 || !std::isfinite(det)) break;
+    sigma -= cross(g, jp) / det;
+    pi -= cross(js, g) / det;
+  }
+  const double disc = sigma * sigma - 4.0 * pi;
+  if (!(disc > 0.0) || !std::isfinite(disc)) return false;
+  const double r = std::sqrt(disc);
+  // Stable roots of z² − σ z + π.
+  const double q = 0.5 * (sigma + std::copysign(r, sigma));
+  double z1 = q, z2 = q != 0.0 ? pi / q : 0.0;
+  if (z1 > z2) std::swap(z1, z2);
+  // Roots a little outside [0,1] (rounding grows with |coordinates| / size) are clamped; the
+  // geometric check below decides whether the ends really meet.
+  const double slack = 1e-6;
+  if (z1 < -slack || z2 > 1.0 + slack) return false;
+  s = std::clamp(z1, 0.0, 1.0);
+  t = std::clamp(z2, 0.0, 1.0);
+  // Reject a cusp (s and t merged: the "loop" has no extent).
+  const double extent = distance(b.eval(s), b.eval(0.5 * (s + t)));
+  if (!(extent > tol)) return false;
+  return distance(b.eval(s), b.eval(t)) <= 4.0 * tol;
+}
+
+}  // namespace fairspline::detail

@@ -1,0 +1,288 @@
+// Private numerical helpers of energy.cpp and diagnostics.cpp:
+//   - adaptive Gauss–Kronrod (7/15) quadrature of a vector-valued integrand, globally adaptive
+//     (QUADPACK QAG strategy) with a fixed-capacity interval buffer: no heap allocation;
+//   - real roots in [0,1] of polynomials of degree <= 3 (monotone bracketing + safeguarded
+//     Newton), used for the minimum speed of a cubic.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
+
+#include "fairspline/cubic_bezier.hpp"
+#include "fairspline/energy.hpp"
+
+namespace fairspline::detail {
+
+/// Result of a vector quadrature: one value and error estimate per component.
+template <std::size_t N>
+struct QuadratureN {
+  std::array<double, N> value{};
+  std::array<double, N> error{};
+  bool converged = true;
+  int intervals = 0;
+};
+
+/// Gauss–Kronrod 7/15 abscissae (positive half) and weights (QUADPACK qk15).
+inline constexpr std::array<double, 8> kGkNodes = {
+    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+    0.207784955007898467600689403773245, 0.000000000000000000000000000000000};
+inline constexpr std::array<double, 8> kKronrodWeights = {
+    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+/// Gauss 7-point weights for the nodes kGkNodes[1], [3], [5] and the centre [7].
+inline constexpr std::array<double, 4> kGaussWeights = {
+    0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+    0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+
+/// One Gauss–Kronrod 15-point rule on [a, b] for each component; the error estimate is
+/// QUADPACK's: resasc·min(1, (200|K−G|/resasc)^1.5), floored at 50·eps·∫|f| (round-off).
+template <std::size_t N, class F>
+void gauss_kronrod15(F& f, double a, double b, std::array<double, N>& value,
+                     std::array<double, N>& error) {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const double c = 0.5 * (a + b), h = 0.5 * (b - a);
+  std::array<std::array<double, N>, 15> fv;  // f at the 15 nodes: [7] centre, [j] and [14-j]
+  fv[7] = f(c);
+  for (int j = 0; j < 7; ++j) {
+    fv[j] = f(c - h * kGkNodes[j]);
+    fv[14 - j] = f(c + h * kGkNodes[j]);
+  }
+  for (std::size_t k = 0; k < N; ++k) {
+    double resk = kKronrodWeights[7] * fv[7][k];
+    double resg = kGaussWeights[3] * fv[7][k];
+    double resabs = std::abs(resk);
+    for (int j = 0; j < 7; ++j) {
+      const double s = fv[j][k] + fv[14 - j][k];
+      resk += kKronrodWeights[j] * s;
+      resabs += kKronrodWeights[j] * (std::abs(fv[j][k]) + std::abs(fv[14 - j][k]));
+      if (j % 2 == 1) resg += kGaussWeights[j / 2] * s;
+    }
+    const double mean = 0.5 * resk;
+    double resasc = kKronrodWeights[7] * std::abs(fv[7][k] - mean);
+    for (int j = 0; j < 7; ++j)
+      resasc += kKronrodWeights[j] * (std::abs(fv[j][k] - mean) + std::abs(fv[14 - j][k] - mean));
+    const double ah = std::abs(h);
+    double err = std::abs((resk - resg) * h);
+    resasc *= ah;
+    resabs *= ah;
+    if (resasc != 0.0 && err != 0.0)
+      err = resasc * std::min(1.0, std::pow(200.0 * err / resasc, 1.5));
+    err = std::max(err, 50.0 * kEps * resabs);
+    value[k] = resk * h;
+    error[k] = err;
+  }
+}
+
+/// Globally adaptive quadrature of f: [0,1] -> R^N over the sub-intervals delimited by
+/// `breaks` (sorted, inside (0,1); integrable kinks belong there). Bisects the interval with the
+/// largest relative error until every component meets error <= rel_accuracy·|value|, no
+/// interval can be split without exceeding max_depth, or the buffer (kCapacity) is full.
+template <std::size_t N, class F>
+QuadratureN<N> integrate_adaptive(F f, std::span<const double> breaks, double rel_accuracy,
+                                  int max_depth) {
+  constexpr int kCapacity = 256;
+  struct Cell {
+    double a, b;
+    std::array<double, N> value, error;
+    int depth;
+  };
+  std::array<Cell, kCapacity> cells;
+  int count = 0;
+  QuadratureN<N> out;
+  auto add = [&](double a, double b, int depth) {
+    Cell& c = cells[count++];
+    c.a = a;
+    c.b = b;
+    c.depth = depth;
+    gauss_kronrod15<N>(f, a, b, c.value, c.error);
+  };
+  double prev = 0.0;
+  for (double x : breaks) {
+    if (x > prev && x < 1.0 && count + 2 < kCapacity) {
+      add(prev, x, 0);
+      prev = x;
+    }
+  }
+  add(prev, 1.0, 0);
+  const double acc = std::max(rel_accuracy, 0.0);
+  for (;;) {
+    std::array<double, N> total{}, total_err{};
+    for (int i = 0; i < count; ++i)
+      for (std::size_t k = 0; k < N; ++k) {
+        total[k] += cells[i].value[k];
+        total_err[k] += cells[i].error[k];
+      }
+    // Worst component's ratio error / tolerance decides convergence and which cell to split.
+    std::array<double, N> tol{};
+    bool done = true;
+    for (std::size_t k = 0; k < N; ++k) {
+      tol[k] = acc * std::abs(total[k]);
+      if (total_err[k] > tol[k]) done = false;
+    }
+    out.value = total;
+    out.error = total_err;
+    out.intervals = count;
+    if (done) return out;
+    if (count + 1 >= kCapacity) break;
+    int worst = -1;
+    double worst_ratio = 0.0;
+    for (int i = 0; i < count; ++i) {
+      if (cells[i].depth >= max_depth) continue;
+      double ratio = 0.0;
+      for (std::size_t k = 0; k < N; ++k) {
+        const double t = tol[k] > 0.0 ? tol[k] : std::numeric_limits<double>::min();
+        ratio = std::max(ratio, cells[i].error[k] / t);
+      }
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = i;
+      }
+    }
+    if (worst < 0) break;
+    const Cell old = cells[worst];
+    const double m = 0.5 * (old.a + old.b);
+    if (!(m > old.a && m < old.b)) {
+      cells[worst].depth = max_depth;  // cannot split further in floating point
+      continue;
+    }
+    // Replace the worst cell by its left half, append the right half.
+    cells[worst].b = m;
+    cells[worst].depth = old.depth + 1;
+    gauss_kronrod15<N>(f, old.a, m, cells[worst].value, cells[worst].error);
+    add(m, old.b, old.depth + 1);
+  }
+  out.converged = false;
+  return out;
+}
+
+/// Calls out(u) for every real root u in [0,1] of c0 + c1 u + c2 u² + c3 u³ (not identically
+/// zero), each simple root once; roots are located by sign changes on monotone pieces and
+/// polished by safeguarded Newton, so a double root shows up as a critical point of the
+/// polynomial, which callers include as a candidate anyway.
+template <class Out>
+void for_each_root_in_unit(double c0, double c1, double c2, double c3, Out&& out) {
+  auto p = [&](double u) { return ((c3 * u + c2) * u + c1) * u + c0; };
+  auto dp = [&](double u) { return (3.0 * c3 * u + 2.0 * c2) * u + c1; };
+  // Critical points: roots of 3c3 u² + 2c2 u + c1 (stable quadratic formula).
+  std::array<double, 4> knots{0.0, 0.0, 0.0, 1.0};
+  int nk = 1;
+  {
+    const double a = 3.0 * c3, b = 2.0 * c2, c = c1;
+    std::array<double, 2> r{};
+    int nr = 0;
+    if (a == 0.0) {
+      if (b != 0.0) r[nr++] = -c / b;
+    } else {
+      const double disc = b * b - 4.0 * a * c;
+      if (disc >= 0.0) {
+        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+        if (q != 0.0) {
+          r[nr++] = q / a;
+          r[nr++] = c / q;
+        } else {
+          r[nr++] = 0.0;
+        }
+      }
+    }
+    if (nr == 2 && r[0] > r[1]) std::swap(r[0], r[1]);
+    for (int i = 0; i < nr; ++i)
+      if (r[i] > 0.0 && r[i] < 1.0) knots[nk++] = r[i];
+  }
+  knots[nk++] = 1.0;
+  for (int i = 0; i + 1 < nk; ++i) {
+    double lo = knots[i], hi = knots[i + 1];
+    double plo = p(lo), phi = p(hi);
+    if (plo == 0.0) {
+      out(lo);
+      continue;
+    }
+    if (i + 2 == nk && phi == 0.0) {
+      out(hi);
+      continue;
+    }
+    if ((plo < 0.0) == (phi < 0.0)) continue;
+    double u = 0.5 * (lo + hi);
+    for (int it = 0; it < 100; ++it) {
+      const double pu = p(u);
+      if (pu == 0.0) break;
+      if ((pu < 0.0) == (plo < 0.0)) {
+        lo = u;
+        plo = pu;
+      } else {
+        hi = u;
+      }
+      const double d = dp(u);
+      double next = (d != 0.0) ? u - pu / d : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (next == u || hi - lo <= 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, hi))
+        break;
+      u = next;
+    }
+    out(u);
+  }
+}
+
+/// Length of the control polygon |p1-p0| + |p2-p1| + |p3-p2|: the scale of a piece.
+inline double control_polygon_length(const CubicBezier& b) {
+  return distance(b.p[0], b.p[1]) + distance(b.p[1], b.p[2]) + distance(b.p[2], b.p[3]);
+}
+
+/// Minimum of |b'(u)| over [0,1] and where it is attained (smallest u on ties).
+struct SpeedMinimum {
+  double speed = 0.0;
+  double u = 0.0;
+};
+
+/// Exact minimum speed: |b'|² is a quartic whose critical points are the roots of the cubic
+/// b'·b''; the minimum is at one of them or at an end.
+inline SpeedMinimum min_speed(const CubicBezier& b) {
+  const QuadBezier h = b.hodograph();
+  // Power form h(u) = c0 + c1 u + c2 u².
+  const Vec2 c0 = h.p[0], c1 = 2.0 * (h.p[1] - h.p[0]), c2 = h.p[0] - 2.0 * h.p[1] + h.p[2];
+  SpeedMinimum best{norm(h.p[0]), 0.0};
+  const double s1 = norm(h.p[2]);
+  if (s1 < best.speed) best = {s1, 1.0};
+  for_each_root_in_unit(dot(c0, c1), 2.0 * dot(c0, c2) + dot(c1, c1), 3.0 * dot(c1, c2),
+                        2.0 * dot(c2, c2), [&](double u) {
+                          const double s = norm(h.eval(u));
+                          if (s < best.speed) best = {s, u};
+                        });
+  return best;
+}
+
+/// True when the four control points are collinear to within the rounding of their
+/// coordinates (so the piece is a straight line, traversed possibly non-uniformly).
+inline bool is_straight(const CubicBezier& b) {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  Vec2 d{};
+  double magnitude = 0.0;
+  for (const Point& q : b.p) magnitude = std::max({magnitude, std::abs(q.x), std::abs(q.y)});
+  for (int k = 1; k < 4; ++k)
+    if (norm2(b.p[k] - b.p[0]) > norm2(d)) d = b.p[k] - b.p[0];
+  if (norm2(d) == 0.0) return true;
+  const double tol = 16.0 * kEps * magnitude * norm(d);
+  for (int k = 1; k < 4; ++k)
+    if (std::abs(cross(d, b.p[k] - b.p[0])) > tol) return false;
+  return true;
+}
+
+/// Bending, curvature variation and length of one piece from a single adaptive quadrature.
+struct PieceEnergies {
+  Quadrature bending;
+  Quadrature curvature_variation;
+  Quadrature length;
+};
+/// Implemented in energy.cpp (same conventions as the public per-piece functions); `m` is
+/// min_speed(b), passed in when the caller already has it.
+PieceEnergies piece_energies(const CubicBezier& b, const EnergyOptions& options,
+                             const SpeedMinimum& m);
+
+}  // namespace fairspline::detail

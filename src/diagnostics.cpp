@@ -1,0 +1,436 @@
+// Diagnostics: regularity certificate, cusps, folds, self-intersections, joint continuity and
+// the Report assembled from them. See diagnostics.hpp for the definitions.
+#include "fairspline/diagnostics.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "detail/intersections.hpp"
+#include "detail/quadrature.hpp"
+#include "fairspline/error.hpp"
+
+namespace fairspline {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kUnbounded = std::numeric_limits<double>::max();
+
+/// The certificate's length scale: the chord, or the control polygon when the piece is closed.
+double chord_scale(const CubicBezier& b) {
+  const double chord = distance(b.p[0], b.p[3]);
+  return chord > 0.0 ? chord : detail::control_polygon_length(b);
+}
+
+/// Distance from the origin to the segment [a, b].
+double origin_segment_distance(Vec2 a, Vec2 b) {
+  const Vec2 d = b - a;
+  const double l2 = norm2(d);
+  if (l2 == 0.0) return norm(a);
+  const double t = std::clamp(-dot(a, d) / l2, 0.0, 1.0);
+  return norm(a + t * d);
+}
+
+/// Distance from the origin to the triangle (convex hull) of h0, h1, h2; 0 when it contains it.
+double origin_hull_distance(Vec2 h0, Vec2 h1, Vec2 h2) {
+  const double s0 = cross(h1 - h0, -h0), s1 = cross(h2 - h1, -h1), s2 = cross(h0 - h2, -h2);
+  const bool pos = s0 > 0.0 || s1 > 0.0 || s2 > 0.0;
+  const bool neg = s0 < 0.0 || s1 < 0.0 || s2 < 0.0;
+  if (!(pos && neg) && (pos || neg)) return 0.0;  // inside a proper triangle (or on its boundary)
+  return std::min({origin_segment_distance(h0, h1), origin_segment_distance(h1, h2),
+                   origin_segment_distance(h2, h0)});
+}
+
+RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
+                              const detail::SpeedMinimum& m) {
+  RegularityCertificate c;
+  const double scale = chord_scale(b);
+  if (!(scale > 0.0)) return c;  // a point: no speed at all
+  c.speed_min = m.speed / scale;
+  c.u_at_min = m.u;
+  const double threshold = std::max(o.min_relative_speed, 0.0) * scale;
+  const QuadBezier h = b.hodograph();
+  const double top = origin_hull_distance(h.p[0], h.p[1], h.p[2]);
+  if (!(m.speed > threshold)) {
+    // A sampled speed is already below the threshold: no certificate can exist.
+    c.speed_lower = std::min(top, m.speed) / scale;
+    return c;
+  }
+  // Depth-first subdivision of the hodograph. A sub-interval is accepted when its hull distance
+  // (a lower bound of the speed there) exceeds the threshold and is within `tightness` of the
+  // true minimum speed, so speed_lower is both proven and informative.
+  const double tight = std::clamp(o.certificate_tightness, 0.0, 1.0) * m.speed;
+  const int max_depth = std::clamp(o.max_depth, 0, 60);
+  struct Item {
+    QuadBezier h;
+    int depth;
+  };
+  std::array<Item, 64> stack;
+  int top_index = 0;
+  stack[top_index++] = {h, 0};
+  double lower = std::numeric_limits<double>::infinity();
+  while (top_index > 0) {
+    const Item it = stack[--top_index];
+    const double d = (it.depth == 0) ? top : origin_hull_distance(it.h.p[0], it.h.p[1], it.h.p[2]);
+    if ((d > threshold && d >= tight) || it.depth >= max_depth) {
+      lower = std::min(lower, d);
+      continue;
+    }
+    ++c.subdivisions;
+    const Vec2 a = 0.5 * (it.h.p[0] + it.h.p[1]), e = 0.5 * (it.h.p[1] + it.h.p[2]);
+    const Vec2 mid = 0.5 * (a + e);
+    stack[top_index++] = {QuadBezier{{mid, e, it.h.p[2]}}, it.depth + 1};
+    stack[top_index++] = {QuadBezier{{it.h.p[0], a, mid}}, it.depth + 1};
+  }
+  c.speed_lower = std::min(lower, m.speed) / scale;
+  c.regular = lower > threshold;
+  return c;
+}
+
+/// Zero to within the rounding of the coordinates of b.
+bool negligible(Vec2 v, const CubicBezier& b) {
+  double magnitude = 0.0;
+  for (const Point& q : b.p) magnitude = std::max({magnitude, std::abs(q.x), std::abs(q.y)});
+  return norm(v) <= 16.0 * kEps * magnitude;
+}
+
+/// 0 ∈ segment [a, b] (a, b antiparallel or one of them zero), to rounding.
+bool segment_through_origin(Vec2 a, Vec2 b) {
+  return std::abs(cross(a, b)) <= 64.0 * kEps * norm(a) * norm(b) && dot(a, b) <= 0.0;
+}
+
+bool fold(const CubicBezier& b, const detail::SpeedMinimum& m, double threshold) {
+  const QuadBezier hq = b.hodograph();
+  const Vec2 h0 = hq.p[0], h1 = hq.p[1], h2 = hq.p[2];
+  if (!(m.speed > threshold)) {
+    if (m.u > 0.0 && m.u < 1.0) return true;  // interior stop: the direction reverses
+    const bool z0 = norm(h0) <= threshold, z2 = norm(h2) <= threshold;
+    if (z0 && z2) return false;  // h = 2u(1-u)h1: one direction
+    // Zero speed at an end: the directions are those of h(u)/u = 2(1-u)h1 + u h2 (or mirrored).
+    return z0 ? segment_through_origin(2.0 * h1, h2) : segment_through_origin(h0, 2.0 * h1);
+  }
+  // Regular piece: the directions fit in an open half-plane iff the origin is outside the convex
+  // hull of the hodograph arc, i.e. outside the parabolic segment between the arc and its chord:
+  // barycentric coordinates λ_i = c_i / Σc of the origin in (h0,h1,h2), inside iff all λ ≥ 0 and
+  // λ1² ≤ 4 λ0 λ2 (the implicit equation of a quadratic Bézier is λ1² = 4 λ0 λ2).
+  double c0 = cross(h1, h2), c1 = cross(h2, h0), c2 = cross(h0, h1);
+  const double t0 = 16.0 * kEps * norm(h1) * norm(h2), t1 = 16.0 * kEps * norm(h2) * norm(h0),
+               t2 = 16.0 * kEps * norm(h0) * norm(h1);
+  if (std::abs(c0) <= t0) c0 = 0.0;
+  if (std::abs(c1) <= t1) c1 = 0.0;
+  if (std::abs(c2) <= t2) c2 = 0.0;
+  // All zero: the hodograph lies on a line through the origin and never vanishes, so it keeps
+  // one direction.
+  if (c0 == 0.0 && c1 == 0.0 && c2 == 0.0) return false;
+  const bool pos = c0 > 0.0 || c1 > 0.0 || c2 > 0.0, neg = c0 < 0.0 || c1 < 0.0 || c2 < 0.0;
+  if (pos && neg) return false;
+  return c1 * c1 <= 4.0 * c0 * c2;
+}
+
+/// Unit-free tangent direction leaving b at u = 0 (or arriving at u = 1): the first
+/// derivative, or the next non-vanishing one (p1−p0, then p2−p0, then p3−p0).
+Vec2 start_direction(const CubicBezier& b) {
+  for (int k = 1; k < 4; ++k)
+    if (!negligible(b.p[k] - b.p[0], b)) return b.p[k] - b.p[0];
+  return {};
+}
+Vec2 end_direction(const CubicBezier& b) {
+  for (int k = 2; k >= 0; --k)
+    if (!negligible(b.p[3] - b.p[k], b)) return b.p[3] - b.p[k];
+  return {};
+}
+
+/// Curvature at an end (u = 0 or 1); kUnbounded when the speed vanishes there on a curved piece.
+double end_curvature(const CubicBezier& b, double u) {
+  const Vec2 v = b.d1(u);
+  if (negligible(v, b)) return detail::is_straight(b) ? 0.0 : kUnbounded;
+  const double k = b.curvature(u);
+  return std::isfinite(k) ? k : kUnbounded;
+}
+
+bool finite_bezier(const CubicBezier& b) {
+  return is_finite(b.p[0]) && is_finite(b.p[1]) && is_finite(b.p[2]) && is_finite(b.p[3]);
+}
+
+}  // namespace
+
+RegularityCertificate certify_regularity(const CubicBezier& b, const DiagnosticsOptions& options) {
+  return certify(b, options, detail::min_speed(b));
+}
+
+bool has_cusp(const CubicBezier& b, const DiagnosticsOptions& options) {
+  const double scale = chord_scale(b);
+  if (!(scale > 0.0)) return false;
+  return !(detail::min_speed(b).speed > std::max(options.min_relative_speed, 0.0) * scale);
+}
+
+bool has_fold(const CubicBezier& b, const DiagnosticsOptions& options) {
+  const double scale = chord_scale(b);
+  if (!(scale > 0.0)) return false;
+  return fold(b, detail::min_speed(b), std::max(options.min_relative_speed, 0.0) * scale);
+}
+
+double tangent_angle_jump_deg(const CubicBezier& a, const CubicBezier& b) {
+  const Vec2 ta = end_direction(a), tb = start_direction(b);
+  return std::atan2(std::abs(cross(ta, tb)), dot(ta, tb)) * (180.0 / std::numbers::pi);
+}
+
+double curvature_jump(const CubicBezier& a, const CubicBezier& b) {
+  const double ka = end_curvature(a, 1.0), kb = end_curvature(b, 0.0);
+  if (ka == kUnbounded || kb == kUnbounded) return kUnbounded;
+  const double j = std::abs(ka - kb);
+  return std::isfinite(j) ? j : kUnbounded;
+}
+
+std::vector<Intersection> find_self_intersections(const Spline& s,
+                                                  const DiagnosticsOptions& options) {
+  // Hits with the geometric tolerance they were accepted with (for merging duplicates).
+  struct Hit {
+    Intersection x;
+    double tol;
+  };
+  std::vector<Hit> result;
+  std::vector<Intersection> unique;
+  const std::size_t n = s.segments.size();
+  if (n == 0) return unique;
+  const double rel = std::max(options.intersection_accuracy, 4.0 * kEps);
+  const int max_depth = std::clamp(options.intersection_max_depth, 1, 60);
+
+  // Pieces of zero extent are skipped; the pieces around them still share their joint.
+  std::vector<double> scale(n);
+  std::vector<std::size_t> live_before(n + 1, 0);  // number of live pieces before index k
+  std::vector<std::size_t> live;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!finite_bezier(s.segments[k].bezier))
+      throw Error(ErrorCode::kNonFinite,
+                  "piece " + std::to_string(k) + " has non-finite control points", k);
+    scale[k] = detail::control_polygon_length(s.segments[k].bezier);
+    live_before[k + 1] = live_before[k] + (scale[k] > 0.0 ? 1 : 0);
+    if (scale[k] > 0.0) live.push_back(k);
+  }
+  if (live.empty()) return unique;
+  const std::size_t first_live = live.front(), last_live = live.back();
+  const bool single_closed = s.closed && live.size() == 1;
+
+  // 1. Loops within a piece.
+  for (std::size_t k : live) {
+    const CubicBezier& b = s.segments[k].bezier;
+    const double tol = rel * scale[k];
+    double u = 0.0, v = 0.0;
+    // A straight piece retracing itself is a fold (a degenerate overlap), not a loop.
+    if (detail::is_straight(b) || !detail::self_intersection(b, tol, u, v)) continue;
+    const Point p = 0.5 * (b.eval(u) + b.eval(v));
+    // A single closed piece meets itself at its own joint (u, v) = (0, 1): not a loop.
+    if (single_closed && u < 0.5 && v > 0.5 && distance(p, b.p[0]) <= 4.0 * tol) continue;
+    result.push_back({{k, k, u, v, p}, tol});
+  }
+
+  // 2. Crossings between pieces: sweep of the tight boxes along the longer axis of the curve.
+  std::vector<BBox> box(n);
+  BBox all{{kUnbounded, kUnbounded}, {-kUnbounded, -kUnbounded}};
+  for (std::size_t k : live) {
+    BBox b = s.segments[k].bezier.bbox();
+    const double m = rel * scale[k];
+    b.min -= Vec2{m, m};
+    b.max += Vec2{m, m};
+    box[k] = b;
+    all.min = {std::min(all.min.x, b.min.x), std::min(all.min.y, b.min.y)};
+    all.max = {std::max(all.max.x, b.max.x), std::max(all.max.y, b.max.y)};
+  }
+  const bool use_x = (all.max.x - all.min.x) >= (all.max.y - all.min.y);
+  auto lo = [&](std::size_t k) { return use_x ? box[k].min.x : box[k].min.y; };
+  auto hi = [&](std::size_t k) { return use_x ? box[k].max.x : box[k].max.y; };
+  auto lo2 = [&](std::size_t k) { return use_x ? box[k].min.y : box[k].min.x; };
+  auto hi2 = [&](std::size_t k) { return use_x ? box[k].max.y : box[k].max.x; };
+  std::vector<std::size_t> order = live;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return lo(a) < lo(b); });
+
+  detail::IntersectionWorkspace ws;
+  std::vector<detail::CurveHit> hits;
+  const std::size_t first_pair_hit = result.size();
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::size_t ki = order[i];
+    for (std::size_t j = i + 1; j < order.size() && lo(order[j]) <= hi(ki); ++j) {
+      const std::size_t kj = order[j];
+      if (lo2(kj) > hi2(ki) || lo2(ki) > hi2(kj)) continue;
+      const std::size_t a = std::min(ki, kj), b = std::max(ki, kj);
+      unsigned joints = detail::kNoJoint;
+      if (live_before[b] - live_before[a + 1] == 0) joints |= detail::kEndToStart;
+      if (s.closed && a == first_live && b == last_live) joints |= detail::kStartToEnd;
+      const CubicBezier& A = s.segments[a].bezier;
+      const CubicBezier& B = s.segments[b].bezier;
+      hits.clear();
+      const double tol = rel * std::max(scale[a], scale[b]);
+      detail::intersect_pieces(A, B, joints, tol, max_depth, ws, hits);
+      for (const detail::CurveHit& h : hits) result.push_back({{a, b, h.u_a, h.u_b, h.point}, tol});
+    }
+  }
+
+  // 3. A crossing exactly at a joint is found on both pieces of the joint: name it by the later
+  //    piece at u = 0, then keep one of each.
+  auto next_live = [&](std::size_t k) -> std::size_t {
+    for (std::size_t m = k + 1; m < n; ++m)
+      if (scale[m] > 0.0) return m;
+    return s.closed ? first_live : n;
+  };
+  for (std::size_t i = first_pair_hit; i < result.size(); ++i) {
+    Intersection& x = result[i].x;
+    const double tol = result[i].tol;
+    auto canon = [&](std::size_t& seg, double& u) {
+      const CubicBezier& c = s.segments[seg].bezier;
+      if (u <= 0.5 || distance(x.point, c.p[3]) > 4.0 * tol) return;
+      const std::size_t nx = next_live(seg);
+      if (nx < n && s.segments[nx].bezier.p[0] == c.p[3]) {
+        seg = nx;
+        u = 0.0;
+      }
+    };
+    canon(x.segment_a, x.u_a);
+    canon(x.segment_b, x.u_b);
+    if (x.segment_a > x.segment_b) {
+      std::swap(x.segment_a, x.segment_b);
+      std::swap(x.u_a, x.u_b);
+    }
+  }
+  std::sort(result.begin(), result.end(), [](const Hit& hx, const Hit& hy) {
+    const Intersection &x = hx.x, &y = hy.x;
+    if (x.segment_a != y.segment_a) return x.segment_a < y.segment_a;
+    if (x.segment_b != y.segment_b) return x.segment_b < y.segment_b;
+    return x.u_a < y.u_a;
+  });
+  auto residual = [&](const Intersection& x) {
+    return distance(s.segments[x.segment_a].bezier.eval(x.u_a),
+                    s.segments[x.segment_b].bezier.eval(x.u_b));
+  };
+  std::vector<double> unique_tol;
+  unique.reserve(result.size());
+  unique_tol.reserve(result.size());
+  for (const auto& [x, tol] : result) {
+    bool dup = false;
+    for (std::size_t i = unique.size(); i-- > 0;) {
+      const auto it = unique.begin() + static_cast<std::ptrdiff_t>(i);
+      if (it->segment_a != x.segment_a || it->segment_b != x.segment_b) break;
+      const double t = std::max(tol, unique_tol[i]);
+      if (distance(it->point, x.point) <= 16.0 * t) {
+        // Representative independent of rounding: the closer contact (an exact root rather than
+        // a near miss next to it), else the smaller parameters.
+        const double rx = residual(x), ri = residual(*it);
+        if (rx < ri - 1e-3 * t ||
+            (std::abs(rx - ri) <= 1e-3 * t && x.u_a + x.u_b < it->u_a + it->u_b))
+          *it = x;
+        dup = true;
+        break;
+      }
+    }
+    if (!dup) {
+      unique.push_back(x);
+      unique_tol.push_back(tol);
+    }
+  }
+  return unique;
+}
+
+Report make_report(const Spline& s, std::span<const Point> points, ReportLevel level,
+                   const DiagnosticsOptions& options) {
+  Report r;
+  if (level == ReportLevel::kNone) return r;
+  const bool full = level == ReportLevel::kFull;
+  const std::size_t n = s.segments.size();
+  if (full) {
+    r.bending_energy = 0.0;
+    r.curvature_variation_energy = 0.0;
+    r.length = 0.0;
+    r.segments.resize(n);
+  }
+  if (n == 0) return r;
+
+  double min_speed = std::numeric_limits<double>::infinity();
+  double bending = 0.0, variation = 0.0, length = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Segment& g = s.segments[k];
+    const CubicBezier& b = g.bezier;
+    if (!finite_bezier(b))
+      throw Error(ErrorCode::kNonFinite,
+                  "piece " + std::to_string(k) + " has non-finite control points", k);
+    const double dt = g.t1 - g.t0;
+    if (!(dt > 0.0) || !std::isfinite(dt))
+      throw Error(ErrorCode::kInvalidArgument,
+                  "piece " + std::to_string(k) + " spans an empty or non-finite parameter interval",
+                  k);
+    const double lin = linearized_energy(b, dt);
+    r.linearized_energy += lin;
+    const detail::SpeedMinimum m = detail::min_speed(b);
+    const RegularityCertificate cert = certify(b, options, m);
+    r.regular = r.regular && cert.regular;
+    min_speed = std::min(min_speed, cert.speed_lower);
+    if (full) {
+      SegmentReport& sr = r.segments[k];
+      sr.linearized_energy = lin;
+      sr.regular = cert.regular;
+      sr.min_relative_speed = cert.speed_lower;
+      const double scale = chord_scale(b);
+      const double threshold = std::max(options.min_relative_speed, 0.0) * scale;
+      sr.has_cusp = scale > 0.0 && !(m.speed > threshold);
+      sr.has_fold = scale > 0.0 && fold(b, m, threshold);
+      const detail::PieceEnergies e = detail::piece_energies(b, options.energy, m);
+      sr.bending_energy = e.bending.value;
+      sr.curvature_variation_energy = e.curvature_variation.value;
+      sr.length = e.length.value;
+      r.energy_singular = r.energy_singular || e.bending.singular || e.curvature_variation.singular;
+      bending += e.bending.value;
+      variation += e.curvature_variation.value;
+      length += e.length.value;
+    }
+  }
+  r.min_relative_speed = std::isfinite(min_speed) ? min_speed : 0.0;
+
+  // Joints (closed: including last -> first).
+  const std::size_t joints = s.closed ? n : n - 1;
+  for (std::size_t k = 0; k < joints; ++k) {
+    const CubicBezier& a = s.segments[k].bezier;
+    const CubicBezier& b = s.segments[(k + 1) % n].bezier;
+    r.max_tangent_angle_jump_deg =
+        std::max(r.max_tangent_angle_jump_deg, tangent_angle_jump_deg(a, b));
+    r.max_curvature_jump = std::max(r.max_curvature_jump, curvature_jump(a, b));
+  }
+
+  // Interpolation: the first piece of span i starts at points[i]; an open curve ends at the last.
+  if (!points.empty()) {
+    std::vector<unsigned char> seen(points.size(), 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = s.segments[k].span;
+      if (i >= points.size())
+        throw Error(ErrorCode::kInvalidArgument,
+                    "piece " + std::to_string(k) + " refers to point " + std::to_string(i) +
+                        " but there are only " + std::to_string(points.size()) + " points",
+                    k);
+      if (seen[i]) continue;
+      seen[i] = 1;
+      r.max_interpolation_residual =
+          std::max(r.max_interpolation_residual, distance(s.segments[k].bezier.p[0], points[i]));
+    }
+    if (!s.closed)
+      r.max_interpolation_residual = std::max(
+          r.max_interpolation_residual, distance(s.segments.back().bezier.p[3], points.back()));
+    if (!std::isfinite(r.max_interpolation_residual))
+      throw Error(ErrorCode::kNonFinite, "the points to interpolate are not finite");
+  }
+
+  if (full) {
+    r.bending_energy = bending;
+    r.curvature_variation_energy = variation;
+    r.length = length;
+    r.intersections = find_self_intersections(s, options);
+    for (const Intersection& x : r.intersections)
+      if (x.segment_a == x.segment_b) r.segments[x.segment_a].has_loop = true;
+  }
+  if (!std::isfinite(r.linearized_energy))
+    throw Error(ErrorCode::kNonFinite, "the linearized energy of the spline overflows");
+  return r;
+}
+
+}  // namespace fairspline
