@@ -8,7 +8,14 @@
 namespace fairspline {
 
 namespace {
-// |d|^alpha with fast paths for the common exponents (pow is ~10x slower than sqrt).
+// |d|^alpha with fast paths for the common exponents (pow is ~10x slower than sqrt). The
+// squared norm under/overflows for |d| outside ~[1e-150, 1e150]: fall back to hypot there.
+inline double safe_norm(Vec2 d) {
+  const double d2 = d.x * d.x + d.y * d.y;
+  if (d2 > 1e-290 && d2 < 1e290) return std::sqrt(d2);
+  return std::hypot(d.x, d.y);
+}
+
 template <int Kind>
 double span_length(Vec2 d, double alpha) {
   if constexpr (Kind == 0) {
@@ -17,10 +24,10 @@ double span_length(Vec2 d, double alpha) {
     return 1.0;
   } else if constexpr (Kind == 1) {
     (void)alpha;
-    return std::sqrt(std::sqrt(d.x * d.x + d.y * d.y));
+    return std::sqrt(safe_norm(d));
   } else if constexpr (Kind == 2) {
     (void)alpha;
-    return std::sqrt(d.x * d.x + d.y * d.y);
+    return safe_norm(d);
   } else {
     return std::pow(norm(d), alpha);
   }
@@ -35,10 +42,16 @@ void fill_knots(std::span<const Point> points, double alpha, bool closed, std::v
   for (std::size_t i = 0; i < spans; ++i) {
     const Vec2 d = points[i + 1 == n ? 0 : i + 1] - points[i];
     const double h = span_length<Kind>(d, alpha);
-    if (!(h > 0.0) || !std::isfinite(h)) {
+    if (!std::isfinite(h) || !std::isfinite(t[i] + h)) {
+      throw Error(ErrorCode::kNonFinite,
+                  "the knot interval after point " + std::to_string(i) +
+                      " overflows double precision; scale the data down",
+                  i + 1 == n ? 0 : i + 1);
+    }
+    if (!(h > 0.0)) {
       throw Error(ErrorCode::kRepeatedPoint,
                   "points " + std::to_string(i) + " and " + std::to_string(i + 1 == n ? 0 : i + 1) +
-                      " give a zero-length or non-finite knot interval",
+                      " give a zero-length knot interval",
                   i + 1 == n ? 0 : i + 1);
     }
     t[i + 1] = t[i] + h;
@@ -47,6 +60,13 @@ void fill_knots(std::span<const Point> points, double alpha, bool closed, std::v
 }  // namespace
 
 std::vector<double> alpha_knots(std::span<const Point> points, double alpha, bool closed) {
+  std::vector<double> t;
+  alpha_knots(points, alpha, closed, t);
+  return t;
+}
+
+void alpha_knots(std::span<const Point> points, double alpha, bool closed,
+                 std::vector<double>& t) {
   if (!(alpha >= 0.0 && alpha <= 1.0)) {
     throw Error(ErrorCode::kBadOption,
                 "alpha must be in [0, 1] (0 uniform, 0.5 centripetal, 1 chordal), got " +
@@ -56,7 +76,6 @@ std::vector<double> alpha_knots(std::span<const Point> points, double alpha, boo
     throw Error(ErrorCode::kTooFewPoints, closed ? "a closed curve needs at least 3 points"
                                                  : "a curve needs at least 2 points");
   }
-  std::vector<double> t;
   if (alpha == 0.0) {
     fill_knots<0>(points, alpha, closed, t);
   } else if (alpha == 0.5) {
@@ -66,7 +85,6 @@ std::vector<double> alpha_knots(std::span<const Point> points, double alpha, boo
   } else {
     fill_knots<3>(points, alpha, closed, t);
   }
-  return t;
 }
 
 void validate_knots(std::span<const double> knots, std::size_t point_count, bool closed) {

@@ -5,6 +5,7 @@
 
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
+#include "detail/finite.hpp"
 #include "methods/builtin.hpp"
 
 namespace fairspline {
@@ -116,27 +117,6 @@ nlohmann::json check_value(const std::string& method, const OptionSpec& spec,
   bad(method, spec, v, "valid");
 }
 
-void check_finite_result(const FitResult& r) {
-  for (std::size_t k = 0; k < r.spline.segments.size(); ++k) {
-    const Segment& s = r.spline.segments[k];
-    bool ok = std::isfinite(s.t0) && std::isfinite(s.t1);
-    for (const Point& p : s.bezier.p) ok = ok && is_finite(p);
-    if (!ok) {
-      throw Error(ErrorCode::kNonFinite,
-                  r.method + " produced a non-finite control point in segment " +
-                      std::to_string(k) + " (span " + std::to_string(s.span) +
-                      "); the input is likely beyond the range of double precision",
-                  s.span);
-    }
-  }
-  for (std::size_t i = 0; i < r.tangents.size(); ++i) {
-    if (!is_finite(r.tangents[i])) {
-      throw Error(ErrorCode::kNonFinite,
-                  r.method + " produced a non-finite tangent at point " + std::to_string(i), i);
-    }
-  }
-}
-
 }  // namespace
 
 nlohmann::json resolve_options(const MethodInfo& method, const nlohmann::json& given) {
@@ -185,15 +165,23 @@ nlohmann::json method_schema(const MethodInfo& method) {
           {"options", std::move(opts)}};
 }
 
-FitResult fit(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
-              ReportLevel level) {
+void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
+              ReportLevel level, FitResult& out) {
   const MethodInfo& method = find_method(method_name);
   nlohmann::json resolved = resolve_options(method, options);
-  FitResult result = method.fit(input, resolved, level);
-  result.method = method.name;
-  result.options = std::move(resolved);
-  check_finite_result(result);
-  if (level != ReportLevel::kNone) result.report = make_report(result.spline, result.points, level);
+  out.report.reset();
+  out.method_report = nlohmann::json::object();
+  method.fit(input, resolved, level, out);
+  out.method = method.name;
+  out.options = std::move(resolved);
+  if (!method.checks_own_output) detail::check_finite_output(out, method.name);
+  if (level != ReportLevel::kNone) out.report = make_report(out.spline, out.points, level);
+}
+
+FitResult fit(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
+              ReportLevel level) {
+  FitResult result;
+  fit_into(method_name, input, options, level, result);
   return result;
 }
 

@@ -17,6 +17,9 @@ inline constexpr double kChordal = 1.0;
 /// Open curves: n points give n knots. Closed curves: n points give n+1 knots, the last one
 /// for the closing span P_{n-1} -> P_0. Throws Error for alpha outside [0,1] or zero spans.
 std::vector<double> alpha_knots(std::span<const Point> points, double alpha, bool closed);
+/// The same, written into `knots` (its capacity is reused).
+void alpha_knots(std::span<const Point> points, double alpha, bool closed,
+                 std::vector<double>& knots);
 
 /// Checks user-given knots: strictly increasing, finite, and the right count
 /// (n for open, n+1 for closed). Throws Error naming the first offending knot.

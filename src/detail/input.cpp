@@ -24,6 +24,16 @@ bool coincident(Point a, Point b) {
   return std::abs(a.x - b.x) <= tol && std::abs(a.y - b.y) <= tol;
 }
 
+namespace {
+// Cheap pre-test for the loop over all points: a difference larger than 4 eps times the sum of
+// the coordinates' magnitudes (>= their max) can never be coincident.
+inline bool maybe_coincident(Point a, Point b) {
+  const double dx = std::abs(a.x - b.x), dy = std::abs(a.y - b.y);
+  const double sum = std::abs(a.x) + std::abs(a.y) + std::abs(b.x) + std::abs(b.y);
+  return std::max(dx, dy) <= 4.0 * std::numeric_limits<double>::epsilon() * sum;
+}
+}  // namespace
+
 void check_tangent(Vec2 v, const char* what, std::size_t index) {
   if (!is_finite(v)) {
     throw Error(ErrorCode::kNonFinite, std::string(what) + " is not finite", index);
@@ -33,8 +43,7 @@ void check_tangent(Vec2 v, const char* what, std::size_t index) {
   }
 }
 
-PreparedInput prepare_input(const FitInput& input, const InputRequirements& req) {
-  PreparedInput out;
+std::size_t prepare_input(const FitInput& input, const InputRequirements& req, FitResult& out) {
   out.closed = input.closed;
   const auto& pts = input.points;
   std::size_t n = pts.size();
@@ -54,7 +63,7 @@ PreparedInput prepare_input(const FitInput& input, const InputRequirements& req)
                     " curve, got " + std::to_string(n));
   }
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    if (coincident(pts[i], pts[i + 1])) {
+    if (maybe_coincident(pts[i], pts[i + 1]) && coincident(pts[i], pts[i + 1])) {
       throw Error(ErrorCode::kRepeatedPoint,
                   point_text(i + 1, pts[i + 1]) + " repeats point " + std::to_string(i) +
                       "; remove consecutive duplicates",
@@ -97,11 +106,11 @@ PreparedInput prepare_input(const FitInput& input, const InputRequirements& req)
   out.points.assign(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(n));
   if (!input.knots.empty()) {
     validate_knots(input.knots, n, input.closed);
-    out.knots = input.knots;
+    out.knots.assign(input.knots.begin(), input.knots.end());
   } else {
-    out.knots = alpha_knots(out.points, input.alpha, input.closed);
+    alpha_knots(out.points, input.alpha, input.closed, out.knots);
   }
-  return out;
+  return out.knots.size() - 1;
 }
 
 }  // namespace fairspline::detail

@@ -8,14 +8,6 @@
 
 namespace fairspline::detail {
 
-/// The checked input of a method: points without a duplicated closing point, and knots.
-struct PreparedInput {
-  std::vector<Point> points;
-  std::vector<double> knots;  ///< points.size() (+1 when closed)
-  bool closed = false;
-  std::size_t spans() const { return knots.size() - 1; }
-};
-
 /// Minimum point counts of a method.
 struct InputRequirements {
   std::size_t min_points_open = 2;
@@ -23,10 +15,12 @@ struct InputRequirements {
   const char* method = "this method";
 };
 
-/// Checks the input and computes knots. Throws Error with the offending index for too few
-/// points, NaN/Inf, consecutive repeated points, bad tangents/kinds arrays or bad knots.
-/// The closing point of a closed curve equal to the first one is dropped silently.
-PreparedInput prepare_input(const FitInput& input, const InputRequirements& req = {});
+/// Checks the input and writes the points to interpolate and their knots into `out.points`,
+/// `out.knots` (points.size(), +1 when closed) and sets `out.closed`, reusing capacity.
+/// Throws Error with the offending index for too few points, NaN/Inf, consecutive repeated
+/// points, bad tangents/kinds arrays or bad knots. The closing point of a closed curve equal to
+/// the first one is dropped silently. Returns the number of spans.
+std::size_t prepare_input(const FitInput& input, const InputRequirements& req, FitResult& out);
 
 /// True when a and b are equal to within rounding of their coordinates' magnitude.
 bool coincident(Point a, Point b);

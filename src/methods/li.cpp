@@ -1,10 +1,13 @@
 #include "fairspline/methods/li.hpp"
 
 #include <algorithm>
+#include <span>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
+#include "detail/finite.hpp"
 #include "detail/input.hpp"
 #include "detail/tridiagonal.hpp"
 #include "fairspline/error.hpp"
@@ -31,10 +34,10 @@ inline SpanTerms span_terms(Vec2 dp, double h, double w1, double w2h2) {
 }
 
 struct Problem {
-  std::vector<Point> points;
-  std::vector<double> knots;
+  std::span<const Point> points;
+  std::span<const double> knots;
   bool closed = false;
-  double w1 = 1.0, w2 = 0.0, h2 = 1.0;  // h2 = H², the knot scale squared
+  double w1 = 1.0, w2 = 0.0, h2 = 1.0;     // h2 = H², the knot scale squared
   std::vector<std::optional<Vec2>> fixed;  // per node (size n); empty = none fixed
 };
 
@@ -48,8 +51,42 @@ std::string singular_message(bool closed) {
                  : "Give --start-tangent (or clamp a point), or use li-combined.");
 }
 
+[[noreturn]] void throw_singular_numerics() {
+  throw Error(ErrorCode::kSingularSystem,
+              "the Li system is numerically singular for these points (a knot interval is too "
+              "small relative to the others)");
+}
+
+// Open curve, nothing clamped, w1 > 0 (the common case): assembly fused into the forward sweep
+// of the Thomas algorithm. The matrix is symmetric positive definite, so pivots are positive.
+// Writes the tangents into m (size n); c is scratch.
+void solve_open_free(const Problem& pb, std::vector<Vec2>& m, std::vector<double>& c) {
+  const std::size_t n = pb.points.size();
+  const auto& P = pb.points;
+  const auto& t = pb.knots;
+  const double w2h2 = pb.w2 * pb.h2;
+  m.resize(n);
+  c.resize(n);
+  SpanTerms prev{0.0, 0.0, {0.0, 0.0}};  // span j-1 (none before node 0)
+  double c_prev = 0.0;
+  Vec2 y_prev{0.0, 0.0};
+  for (std::size_t j = 0; j < n; ++j) {
+    const SpanTerms next = j + 1 < n ? span_terms(P[j + 1] - P[j], t[j + 1] - t[j], pb.w1, w2h2)
+                                     : SpanTerms{0.0, 0.0, {0.0, 0.0}};
+    const double pivot = prev.diag + next.diag - prev.off * c_prev;
+    if (!(pivot > 0.0)) throw_singular_numerics();
+    const double inv = 1.0 / pivot;
+    c_prev = next.off * inv;
+    y_prev = (prev.rhs + next.rhs - prev.off * y_prev) * inv;
+    c[j] = c_prev;
+    m[j] = y_prev;
+    prev = next;
+  }
+  for (std::size_t j = n - 1; j-- > 0;) m[j] -= c[j] * m[j + 1];
+}
+
 // Open system on nodes 0..N-1 with spans between consecutive nodes (span j: node j -> j+1).
-// `node_of(j)` maps the system's node to the problem's point index; spans use the same map.
+// `point_at(j)`, `span_h(j)`, `fixed_at(j)` give the system's node data.
 template <typename PointAt, typename SpanAt, typename FixedAt>
 void solve_open(std::size_t nodes, PointAt&& point_at, SpanAt&& span_h, FixedAt&& fixed_at,
                 double w1, double w2h2, std::vector<Vec2>& m) {
@@ -81,26 +118,27 @@ void solve_open(std::size_t nodes, PointAt&& point_at, SpanAt&& span_h, FixedAt&
     sup[j] = 0.0;
     m[j] = *v;
   }
-  if (!detail::solve_tridiagonal(sub, diag, sup, m, scratch)) {
-    throw Error(ErrorCode::kSingularSystem,
-                "the Li system is numerically singular for these points (a knot interval is "
-                "too small relative to the others)");
-  }
+  if (!detail::solve_tridiagonal(sub, diag, sup, m, scratch)) throw_singular_numerics();
 }
 
-std::vector<Vec2> solve_tangents(const Problem& pb) {
+// Solves for the tangent vectors m (size n) of the problem.
+void solve_tangents(const Problem& pb, std::vector<Vec2>& m) {
   const std::size_t n = pb.points.size();
   const auto& P = pb.points;
   const auto& t = pb.knots;
   auto fixed_at_point = [&](std::size_t i) -> std::optional<Vec2> {
     return pb.fixed.empty() ? std::nullopt : pb.fixed[i];
   };
-  std::vector<Vec2> m;
   if (!pb.closed) {
+    if (pb.fixed.empty() && pb.w1 > 0.0) {
+      thread_local std::vector<double> scratch;  // reused across fits on this thread
+      solve_open_free(pb, m, scratch);
+      return;
+    }
     solve_open(
         n, [&](std::size_t j) { return P[j]; }, [&](std::size_t j) { return t[j + 1] - t[j]; },
         fixed_at_point, pb.w1, pb.w2 * pb.h2, m);
-    return m;
+    return;
   }
   // Closed: with a fixed node, rotate it to the front and solve an open system on n+1 nodes
   // whose first and last node are that same fixed point.
@@ -123,7 +161,7 @@ std::vector<Vec2> solve_tangents(const Problem& pb) {
         [&](std::size_t j) { return fixed_at_point((j + r) % n); }, pb.w1, pb.w2 * pb.h2, mr);
     m.resize(n);
     for (std::size_t j = 0; j < n; ++j) m[(j + r) % n] = mr[j];
-    return m;
+    return;
   }
   if (pb.w1 == 0.0) {
     if (n % 2 == 0) throw Error(ErrorCode::kSingularSystem, singular_message(true));
@@ -140,7 +178,7 @@ std::vector<Vec2> solve_tangents(const Problem& pb) {
       const Vec2 delta = (P[k + 1] - P[k]) / (t[k + 1] - t[k]);
       m[k + 1] = 2.0 * delta - m[k];
     }
-    return m;
+    return;
   }
   std::vector<double> off(n), diag(n, 0.0);
   m.assign(n, Vec2{0.0, 0.0});
@@ -153,30 +191,33 @@ std::vector<Vec2> solve_tangents(const Problem& pb) {
     m[i] += s.rhs;
     m[j] += s.rhs;
   }
-  if (!detail::solve_cyclic_symmetric(off, diag, m)) {
-    throw Error(ErrorCode::kSingularSystem, "the closed Li system is numerically singular");
-  }
-  return m;
+  if (!detail::solve_cyclic_symmetric(off, diag, m)) throw_singular_numerics();
+}
+
+// Unit direction of v; |v| by sqrt(norm2) unless that could under/overflow.
+inline Vec2 unit(Vec2 v) {
+  const double n2 = norm2(v);
+  if (n2 > 1e-290 && n2 < 1e290) return v / std::sqrt(n2);
+  return v / norm(v);
 }
 
 }  // namespace
 
-FitResult fit_li(const FitInput& input, const LiOptions& options, ReportLevel level) {
+void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, FitResult& out) {
   const double w1 = options.strain_weight, w2 = options.curvature_variation_weight;
   if (!(w1 >= 0.0 && w2 >= 0.0 && std::isfinite(w1) && std::isfinite(w2) && w1 + w2 > 0.0)) {
     throw Error(ErrorCode::kBadOption,
                 "Li weights must be finite and non-negative with a positive sum, got (" +
                     std::to_string(w1) + ", " + std::to_string(w2) + ")");
   }
-  detail::PreparedInput prepared = detail::prepare_input(input, {2, 3, "the Li method"});
+  const std::size_t spans = detail::prepare_input(input, {2, 3, "the Li method"}, out);
   Problem pb;
-  pb.points = std::move(prepared.points);
-  pb.knots = std::move(prepared.knots);
-  pb.closed = prepared.closed;
+  pb.points = out.points;
+  pb.knots = out.knots;
+  pb.closed = out.closed;
   pb.w1 = w1;
   pb.w2 = w2;
   const std::size_t n = pb.points.size();
-  const std::size_t spans = pb.closed ? n : n - 1;
   const double H = (pb.knots.back() - pb.knots.front()) / static_cast<double>(spans);
   pb.h2 = H * H;
 
@@ -204,24 +245,25 @@ FitResult fit_li(const FitInput& input, const LiOptions& options, ReportLevel le
     throw Error(ErrorCode::kSingularSystem, singular_message(pb.closed));
   }
 
-  const std::vector<Vec2> m = solve_tangents(pb);
+  // The tangent vectors m_i are solved into out.tangents, then normalized in place.
+  std::vector<Vec2>& m = out.tangents;
+  solve_tangents(pb, m);
 
-  FitResult result;
-  result.closed = pb.closed;
-  result.spline.closed = pb.closed;
-  result.spline.segments.resize(spans);
-  result.tangents.resize(n);
+  out.spline.closed = pb.closed;
+  auto& segments = out.spline.segments;
+  segments.clear();
+  segments.reserve(spans);
   double strain = 0.0, third = 0.0;
+  std::uint64_t bad = 0;  // non-finite output, checked while the data is in registers
   const auto& P = pb.points;
   const auto& t = pb.knots;
   for (std::size_t i = 0; i < spans; ++i) {
     const std::size_t j = (i + 1 == n) ? 0 : i + 1;
     const double h = t[i + 1] - t[i];
-    Segment& seg = result.spline.segments[i];
-    seg.bezier = {{P[i], P[i] + (h / 3.0) * m[i], P[j] - (h / 3.0) * m[j], P[j]}};
-    seg.t0 = t[i];
-    seg.t1 = t[i + 1];
-    seg.span = i;
+    const double h3 = h / 3.0;
+    const Point b1 = P[i] + h3 * m[i], b2 = P[j] - h3 * m[j];
+    bad |= detail::non_finite_bits(b1) | detail::non_finite_bits(b2);
+    segments.push_back(Segment{CubicBezier{{P[i], b1, b2, P[j]}}, t[i], t[i + 1], i});
     if (level != ReportLevel::kNone) {
       const Vec2 delta = (P[j] - P[i]) / h;
       strain += (4.0 / h) * (norm2(m[i]) + norm2(m[j]) + dot(m[i], m[j]) -
@@ -230,28 +272,33 @@ FitResult fit_li(const FitInput& input, const LiOptions& options, ReportLevel le
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    const double len = norm(m[i]);
-    if (len > 0.0) {
-      result.tangents[i] = m[i] / len;
+    if (m[i].x != 0.0 || m[i].y != 0.0) {
+      m[i] = unit(m[i]);
     } else {
       // Zero derivative (a cusp of the C1 curve): report the chord direction instead.
-      const Vec2 chord = (i + 1 < n ? P[i + 1] : P[0]) - (i > 0 ? P[i - 1] : P[n - 1]);
-      result.tangents[i] = normalized(pb.closed || (i > 0 && i + 1 < n) ? chord
-                                      : i == 0                          ? P[1] - P[0]
-                                                                        : P[n - 1] - P[n - 2]);
+      const Vec2 chord = (pb.closed || (i > 0 && i + 1 < n))
+                             ? P[(i + 1) % n] - P[(i + n - 1) % n]
+                             : (i == 0 ? P[1] - P[0] : P[n - 1] - P[n - 2]);
+      m[i] = unit(chord);
     }
+    bad |= detail::non_finite_bits(m[i]);
   }
-  result.points = std::move(pb.points);
-  result.knots = std::move(pb.knots);
-  result.method_report = {{"weights", {w1, w2}},
-                          {"knot_scale", H},
-                          {"system", pb.closed ? "cyclic-tridiagonal" : "tridiagonal"},
-                          {"clamped", clamped}};
+  // Points were checked by prepare_input; knots are finite there too. Name the culprit.
+  if (bad) detail::check_finite_output(out, "the Li method");
+  out.method_report = {{"weights", {w1, w2}},
+                       {"knot_scale", H},
+                       {"system", pb.closed ? "cyclic-tridiagonal" : "tridiagonal"},
+                       {"clamped", clamped}};
   if (level != ReportLevel::kNone) {
-    result.method_report["strain_term"] = strain;
-    result.method_report["third_derivative_term"] = third;
-    result.method_report["objective"] = w1 * strain + w2 * pb.h2 * third;
+    out.method_report["strain_term"] = strain;
+    out.method_report["third_derivative_term"] = third;
+    out.method_report["objective"] = w1 * strain + w2 * pb.h2 * third;
   }
+}
+
+FitResult fit_li(const FitInput& input, const LiOptions& options, ReportLevel level) {
+  FitResult result;
+  fit_li(input, options, level, result);
   return result;
 }
 
@@ -272,9 +319,10 @@ std::vector<MethodInfo> li_methods() {
       "periodic) C2 cubic spline on the knots (Li 2.13, 2.20).",
       paper + ", system (2.13)/(2.20)",
       {},
-      [](const FitInput& in, const nlohmann::json&, ReportLevel level) {
-        return fit_li(in, {1.0, 0.0}, level);
-      }};
+      [](const FitInput& in, const nlohmann::json&, ReportLevel level, FitResult& out) {
+        fit_li(in, {1.0, 0.0}, level, out);
+      },
+      /*checks_own_output=*/true};
   MethodInfo combined{
       "li-combined",
       "C1 cubic minimizing w1·∫|s''|² dt + w2·H²·∫|s'''|² dt (Li's combined energy 2.17, 2.21 for "
@@ -288,24 +336,26 @@ std::vector<MethodInfo> li_methods() {
                   {},
                   "[w1, w2]: weights of the strain and curvature-variation terms (non-negative, "
                   "w1 > 0 or a clamped tangent)"}},
-      [](const FitInput& in, const nlohmann::json& o, ReportLevel level) {
+      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
         const auto& w = o.at("weights");
         if (w.size() != 2) {
           throw Error(ErrorCode::kBadOption,
                       "option 'weights' of li-combined must have two entries [w1, w2], got " +
                           w.dump());
         }
-        return fit_li(in, {w[0].get<double>(), w[1].get<double>()}, level);
-      }};
+        fit_li(in, {w[0].get<double>(), w[1].get<double>()}, level, out);
+      },
+      /*checks_own_output=*/true};
   MethodInfo curvature{
       "li-curvature-variation",
       "C1 cubic minimizing ∫|s'''|² dt alone (Li 2.16): a C1 piecewise-quadratic curve, unique "
       "only with a clamped start tangent (or a closed curve with an odd number of points).",
       paper + ", system (2.16)",
       {},
-      [](const FitInput& in, const nlohmann::json&, ReportLevel level) {
-        return fit_li(in, {0.0, 1.0}, level);
-      }};
+      [](const FitInput& in, const nlohmann::json&, ReportLevel level, FitResult& out) {
+        fit_li(in, {0.0, 1.0}, level, out);
+      },
+      /*checks_own_output=*/true};
   return {strain, combined, curvature};
 }
 

@@ -334,3 +334,44 @@ RC_GTEST_PROP(LiProperty, ReversalReversesTheCurve, ()) {
 
 }  // namespace
 }  // namespace fairspline
+
+namespace fairspline {
+namespace {
+
+TEST(Li, HugeAndTinyCoordinatesGiveACurveOrAClearError) {
+  // Far apart but representable: a curve, finite everywhere.
+  for (double s : {1e-300, 1e-160, 1e160, 1e300}) {
+    FitInput in;
+    in.points = {{0, 0}, {s, 0}, {s, s}, {0, s}};
+    const FitResult r = fit("li-combined", in, {}, ReportLevel::kNone);
+    for (const auto& seg : r.spline.segments) {
+      for (const Point& p : seg.bezier.p) EXPECT_TRUE(is_finite(p)) << s;
+    }
+    for (const Vec2& d : r.tangents) EXPECT_NEAR(norm(d), 1.0, 1e-15) << s;
+  }
+  // Control points beyond DBL_MAX: the fused finite check names the span.
+  FitInput in;
+  in.points = {{0, 0}, {1.7e308, 0}, {1.7e308, 1.7e308}};
+  in.alpha = 0.0;
+  try {
+    const FitResult r = fit("li-strain", in, {}, ReportLevel::kNone);
+    for (const auto& seg : r.spline.segments) {
+      for (const Point& p : seg.bezier.p) EXPECT_TRUE(is_finite(p));
+    }
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNonFinite) << e.what();
+    EXPECT_TRUE(e.index().has_value());
+  }
+  // Knot intervals that overflow.
+  in.alpha = 1.0;
+  in.points = {{-1.7e308, 0}, {1.7e308, 0}, {1.7e308, 1e308}};
+  try {
+    fit("li-strain", in);
+    ADD_FAILURE() << "expected an overflow error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNonFinite) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace fairspline
