@@ -1,0 +1,324 @@
+// End-to-end tests of the `fairspline` command.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#ifdef FAIRSPLINE_CLI
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+const std::string kExample = std::string(FAIRSPLINE_SOURCE_DIR) + "/examples/li-example1.csv";
+const std::string kData = FAIRSPLINE_TEST_DATA_DIR;
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("fairspline-cli-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+
+  /// Runs the CLI with `args` (already shell-quoted where needed), optional stdin text.
+  CliRun run(const std::string& args, const std::optional<std::string>& stdin_text = std::nullopt) {
+    std::string cmd = quote(FAIRSPLINE_CLI) + " " + args;
+    if (stdin_text) {
+      const fs::path in = dir_ / "stdin.txt";
+      std::ofstream(in, std::ios::binary) << *stdin_text;
+      cmd += " <" + quote(in.string());
+    } else {
+      cmd += " </dev/null";
+    }
+    cmd += " >" + quote((dir_ / "out.txt").string()) + " 2>" + quote((dir_ / "err.txt").string());
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir_ / "out.txt");
+    r.err = slurp(dir_ / "err.txt");
+    return r;
+  }
+
+  fs::path file(const std::string& name, const std::string& content) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << content;
+    return p;
+  }
+
+  fs::path dir_;
+};
+
+void expect_fit_schema(const json& j, const std::string& method, std::size_t points) {
+  for (const char* key : {"method", "closed", "options", "points", "knots", "tangents", "segments",
+                          "report", "method_report"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["method"], method);
+  EXPECT_TRUE(j["closed"].is_boolean());
+  EXPECT_TRUE(j["options"].is_object());
+  EXPECT_EQ(j["points"].size(), points);
+  EXPECT_EQ(j["tangents"].size(), points);
+  EXPECT_EQ(j["knots"].size(), points);
+  ASSERT_EQ(j["segments"].size(), points - 1);
+  for (const auto& s : j["segments"]) {
+    ASSERT_EQ(s["bezier"].size(), 4u);
+    EXPECT_TRUE(s["t0"].is_number());
+    EXPECT_TRUE(s["t1"].is_number());
+    EXPECT_TRUE(s["span"].is_number_integer());
+  }
+  const json& rep = j["report"];
+  for (const char* key :
+       {"bending_energy", "linearized_energy", "curvature_variation_energy", "length",
+        "max_tangent_angle_jump_deg", "max_curvature_jump", "min_relative_speed"}) {
+    EXPECT_TRUE(rep[key].is_number()) << key;
+  }
+  EXPECT_TRUE(rep["regular"].is_boolean());
+}
+
+TEST_F(Cli, FitEachLiMethodAsJson) {
+  for (const std::string method : {"li-strain", "li-combined", "li-curvature-variation"}) {
+    const std::string extra = method == "li-curvature-variation" ? " --start-tangent 1,0" : "";
+    const CliRun r = run("fit " + quote(kExample) + " -m " + method + extra);
+    ASSERT_EQ(r.exit_code, 0) << method << ": " << r.err;
+    const json j = json::parse(r.out);
+    expect_fit_schema(j, method, 7);
+  }
+}
+
+TEST_F(Cli, DefaultMethodAndStdin) {
+  const std::string csv = slurp(kExample);
+  const CliRun a = run("fit", csv);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const CliRun b = run("fit -", csv);
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_EQ(json::parse(a.out)["method"], "li-combined");
+  // JSON on stdin is detected by its first character.
+  const CliRun c = run("fit --report none", R"({"points": [[0,0],[1,1],[2,0]], "closed": true})");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const json j = json::parse(c.out);
+  EXPECT_EQ(j["closed"], true);
+  EXPECT_EQ(j["segments"].size(), 3u);
+  EXPECT_FALSE(j.contains("report"));
+}
+
+TEST_F(Cli, JsonRequestFileAndCommandLineOverrides) {
+  const std::string req = quote(kData + "/cli-request.json");
+  const CliRun a = run("fit " + req);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const json ja = json::parse(a.out);
+  EXPECT_EQ(ja["method"], "li-combined");
+  EXPECT_EQ(ja["options"]["weights"], json({1, 0.5}));
+  const CliRun b = run("fit " + req + " -m li-strain --set weights=[1,0]");
+  EXPECT_EQ(b.exit_code, 1);  // li-strain has no options
+  EXPECT_NE(b.err.find("unknown_option"), std::string::npos) << b.err;
+  const CliRun c = run("fit " + req + " --set weights=[2,0] --closed --alpha 0 --indent 2");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const json jc = json::parse(c.out);
+  EXPECT_EQ(jc["options"]["weights"], json({2, 0}));
+  EXPECT_EQ(jc["closed"], true);
+  EXPECT_EQ(jc["knots"], json({0, 1, 2, 3, 4, 5}));    // uniform knots from --alpha 0
+  EXPECT_NE(c.out.find("\n  \""), std::string::npos);  // indented
+}
+
+TEST_F(Cli, BadOptionExitsOneWithMessage) {
+  const CliRun r = run("fit " + quote(kExample) + " --set wieghts=[1,0]");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(r.out.empty());
+  EXPECT_NE(r.err.find("fairspline: error [unknown_option]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("wieghts"), std::string::npos) << r.err;
+  const CliRun v = run("fit " + quote(kExample) + " --set weights=heavy");
+  EXPECT_EQ(v.exit_code, 1);
+  EXPECT_NE(v.err.find("[bad_option]"), std::string::npos) << v.err;
+  const CliRun s = run("fit " + quote(kExample) + " -f svg --set svg.comb=maybe");
+  EXPECT_EQ(s.exit_code, 1);
+  EXPECT_NE(s.err.find("svg.comb"), std::string::npos) << s.err;
+  const CliRun m = run("fit " + quote(kExample) + " -m li-nope");
+  EXPECT_EQ(m.exit_code, 1);
+  EXPECT_NE(m.err.find("[unknown_method]"), std::string::npos) << m.err;
+}
+
+TEST_F(Cli, FitErrorsExitOneNamingThePoint) {
+  const CliRun r = run("fit " + quote(file("rep.csv", "0,0\n1,1\n1,1\n2,0\n").string()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("fairspline: error [repeated_point] at point 2: "), std::string::npos)
+      << r.err;
+  const CliRun s = run("fit " + quote(kExample) + " -m li-curvature-variation");
+  EXPECT_EQ(s.exit_code, 1);
+  EXPECT_NE(s.err.find("fairspline: error [singular_system]: "), std::string::npos) << s.err;
+  const CliRun t = run("fit", "0,0\n");
+  EXPECT_EQ(t.exit_code, 1);
+  EXPECT_NE(t.err.find("[too_few_points]"), std::string::npos) << t.err;
+}
+
+TEST_F(Cli, MalformedInputExitsTwoNamingTheLine) {
+  const CliRun r = run("fit " + quote(kData + "/cli-malformed.csv"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty());
+  EXPECT_NE(r.err.find("fairspline: error [parse_error]: line 8: expected two numbers"),
+            std::string::npos)
+      << r.err;
+  const CliRun nan = run("fit", "0,0\n1,nan\n");
+  EXPECT_EQ(nan.exit_code, 2);
+  EXPECT_NE(nan.err.find("[non_finite]"), std::string::npos) << nan.err;
+  EXPECT_NE(nan.err.find("line 2"), std::string::npos) << nan.err;
+  const CliRun js = run("fit", "{\"points\": [[0,0],[1]]}");
+  EXPECT_EQ(js.exit_code, 2);
+  EXPECT_NE(js.err.find("points[1]: expected [x, y]"), std::string::npos) << js.err;
+  const CliRun syntax =
+      run("fit " + quote(file("bad.json", "{\"points\": [[0,0],\n[1,2]").string()));
+  EXPECT_EQ(syntax.exit_code, 2);
+  EXPECT_NE(syntax.err.find("invalid JSON at line 2"), std::string::npos) << syntax.err;
+  const CliRun missing = run("fit " + quote((dir_ / "missing.csv").string()));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("[io_error]"), std::string::npos) << missing.err;
+  const CliRun directory = run("fit " + quote(dir_.string()));
+  EXPECT_EQ(directory.exit_code, 2);
+  const CliRun binary = run("fit", std::string("\0\x01\xff\xfe", 4));
+  EXPECT_EQ(binary.exit_code, 2);
+}
+
+TEST_F(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(run("").exit_code, 2);
+  EXPECT_EQ(run("frobnicate").exit_code, 2);
+  EXPECT_EQ(run("fit " + quote(kExample) + " --bogus").exit_code, 2);
+  EXPECT_EQ(run("fit " + quote(kExample) + " -f pdf").exit_code, 2);
+  EXPECT_EQ(run("fit " + quote(kExample) + " --report most").exit_code, 2);
+  EXPECT_EQ(run("fit " + quote(kExample) + " --alpha abc").exit_code, 2);
+  const CliRun t = run("fit " + quote(kExample) + " --start-tangent 1");
+  EXPECT_EQ(t.exit_code, 2);
+  EXPECT_NE(t.err.find("--start-tangent expects X,Y"), std::string::npos) << t.err;
+  const CliRun s = run("fit " + quote(kExample) + " --set novalue");
+  EXPECT_EQ(s.exit_code, 2);
+  EXPECT_NE(s.err.find("KEY=VALUE"), std::string::npos) << s.err;
+  EXPECT_EQ(run("bench").exit_code, 2);  // -n required
+  EXPECT_EQ(run("bench -n 10 --shape square").exit_code, 2);
+  EXPECT_EQ(run("bench -n 10 --repeat 0").exit_code, 2);
+  const CliRun unwritable =
+      run("fit " + quote(kExample) + " -o " + quote((dir_ / "no/such/dir/x.json").string()));
+  EXPECT_EQ(unwritable.exit_code, 2);
+  const CliRun help = run("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("fit"), std::string::npos);
+  EXPECT_EQ(run("fit --help").exit_code, 0);
+}
+
+TEST_F(Cli, OutputFormatsFilesAndSummary) {
+  const fs::path svg = dir_ / "fit.svg";
+  const CliRun r = run("fit " + quote(kExample) + " -o " + quote(svg.string()) + " --summary");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = slurp(svg);
+  EXPECT_NE(text.find("<svg xmlns=\"http://www.w3.org/2000/svg\""), std::string::npos);
+  EXPECT_NE(r.out.find("bending energy"), std::string::npos);  // summary to stdout with -o
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const CliRun comb = run("fit " + quote(kExample) + " -f svg --set svg.comb=1");
+  ASSERT_EQ(comb.exit_code, 0) << comb.err;
+  EXPECT_NE(comb.out.find("class=\"comb-teeth\""), std::string::npos);
+  const CliRun csv = run("fit " + quote(kExample) + " -f csv --summary");
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_EQ(csv.out.rfind("x0,y0,x1,y1,x2,y2,x3,y3\n1,90,", 0), 0u) << csv.out;
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 7);
+  EXPECT_NE(csv.err.find("linearized energy"), std::string::npos);  // summary to stderr
+  // -o extension chooses the format.
+  const fs::path out_csv = dir_ / "fit.csv";
+  ASSERT_EQ(run("fit " + quote(kExample) + " -o " + quote(out_csv.string())).exit_code, 0);
+  EXPECT_EQ(slurp(out_csv).rfind("x0,y0", 0), 0u);
+}
+
+TEST_F(Cli, SvgOutputRendersWithRsvg) {
+  if (std::system("command -v rsvg-convert >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "rsvg-convert not installed";
+  }
+  const fs::path svg = dir_ / "fit.svg", png = dir_ / "fit.png";
+  ASSERT_EQ(run("fit " + quote(kExample) + " -o " + quote(svg.string()) +
+                " --set svg.comb=1 --set svg.control_polygon=true")
+                .exit_code,
+            0);
+  const std::string cmd = "rsvg-convert " + quote(svg.string()) + " -o " + quote(png.string());
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  ASSERT_TRUE(fs::exists(png));
+  EXPECT_GT(fs::file_size(png), 1000u);
+}
+
+TEST_F(Cli, MethodsListAndJson) {
+  const CliRun text = run("methods");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  for (const char* m : {"li-strain", "li-combined", "li-curvature-variation", "weights"}) {
+    EXPECT_NE(text.out.find(m), std::string::npos) << m;
+  }
+  const CliRun js = run("methods --json");
+  ASSERT_EQ(js.exit_code, 0) << js.err;
+  const json j = json::parse(js.out);
+  ASSERT_TRUE(j.is_array());
+  std::vector<std::string> names;
+  for (const auto& m : j) {
+    for (const char* key : {"name", "description", "paper", "options", "default"}) {
+      EXPECT_TRUE(m.contains(key)) << key;
+    }
+    names.push_back(m["name"]);
+  }
+  for (const char* m : {"li-strain", "li-combined", "li-curvature-variation"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), m), names.end()) << m;
+  }
+}
+
+TEST_F(Cli, BenchPrintsTimingJson) {
+  for (const std::string args : {"bench -m li-strain -n 200 --repeat 2",
+                                 "bench -m li-combined -n 100 --closed --shape circle --seed 3"}) {
+    const CliRun r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << args << ": " << r.err;
+    const json j = json::parse(r.out);
+    for (const char* key :
+         {"method", "n", "closed", "shape", "seconds", "points_per_second", "repeat"}) {
+      EXPECT_TRUE(j.contains(key)) << key;
+    }
+    EXPECT_GT(j["seconds"].get<double>(), 0.0);
+    EXPECT_GT(j["points_per_second"].get<double>(), 0.0);
+  }
+  const json j = json::parse(run("bench -m li-strain -n 200 --repeat 2").out);
+  EXPECT_EQ(j["method"], "li-strain");
+  EXPECT_EQ(j["n"], 200);
+  EXPECT_EQ(j["repeat"], 2);
+  EXPECT_EQ(j["shape"], "random");
+  EXPECT_EQ(j["closed"], false);
+  const CliRun fail = run("bench -m li-curvature-variation -n 10");
+  EXPECT_EQ(fail.exit_code, 1);
+  EXPECT_NE(fail.err.find("[singular_system]"), std::string::npos);
+}
+
+}  // namespace
+
+#endif  // FAIRSPLINE_CLI

@@ -1,0 +1,372 @@
+#include "fairspline/io/json.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "fairspline/error.hpp"
+#include "fairspline/registry.hpp"
+
+namespace fairspline::io {
+namespace {
+
+using nlohmann::json;
+
+template <typename F>
+Error expect_error(F&& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected fairspline::Error";
+  return Error(ErrorCode::kInvalidArgument, "no error");
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const std::vector<Point> kExample = {{1, 90},  {3, 105},  {6, 120}, {10, 100},
+                                     {12, 85}, {15, 104}, {17, 80}};
+
+// ------------------------------------------------------------------ input
+
+TEST(JsonInput, MinimalAndDefaults) {
+  const ParsedInput p = parse_json_input(R"({"points": [[0, 0], [1, 2.5], [-3, 4e2]]})");
+  ASSERT_EQ(p.input.points.size(), 3u);
+  EXPECT_EQ(p.input.points[2], (Point{-3, 400}));
+  EXPECT_FALSE(p.input.closed);
+  EXPECT_EQ(p.input.alpha, FitInput::kDefaultAlpha);
+  EXPECT_TRUE(p.input.knots.empty());
+  EXPECT_TRUE(p.input.tangents.empty());
+  EXPECT_TRUE(p.input.kinds.empty());
+  EXPECT_FALSE(p.input.start_tangent);
+  EXPECT_FALSE(p.input.end_tangent);
+  EXPECT_FALSE(p.method);
+  EXPECT_EQ(p.options, json::object());
+}
+
+TEST(JsonInput, EveryFieldFromFixture) {
+  const ParsedInput p = parse_json_input(read_file(FAIRSPLINE_TEST_DATA_DIR "/io-request.json"));
+  const FitInput& in = p.input;
+  ASSERT_EQ(in.points.size(), 5u);
+  EXPECT_EQ(in.points[3], (Point{3, -0.1}));
+  EXPECT_FALSE(in.closed);
+  ASSERT_EQ(in.tangents.size(), 5u);
+  EXPECT_FALSE(in.tangents[0]);
+  EXPECT_EQ(in.tangents[1], (Vec2{1, 0}));
+  ASSERT_EQ(in.kinds.size(), 5u);
+  EXPECT_EQ(in.kinds[1], PointKind::kClamped);
+  EXPECT_EQ(in.kinds[0], PointKind::kSmooth);
+  EXPECT_EQ(p.method, "li-strain");
+  EXPECT_EQ(in.alpha, 1.0);
+  EXPECT_EQ(in.knots, (std::vector<double>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(in.start_tangent, (Vec2{1, 1}));
+  EXPECT_EQ(in.end_tangent, (Vec2{0, 1}));
+  // And it fits.
+  const FitResult r = fit(*p.method, in, p.options);
+  EXPECT_EQ(r.spline.segments.size(), 4u);
+}
+
+TEST(JsonInput, BareArrayCommentsKindsAndLambdas) {
+  EXPECT_EQ(parse_json_input("[[0,0],[1,1]]").input.points.size(), 2u);
+  const ParsedInput p = parse_json_input(
+      R"({"_note": "ignored", "$schema": "x", "points": [[0,0],[1,1],[2,0]], "closed": true,
+          "kinds": ["smooth", "corner", "clamped"], "start_tangent": null,
+          "options": {"a": 1}, "lambdas": [0.5, 1]})");
+  EXPECT_TRUE(p.input.closed);
+  EXPECT_EQ(p.input.kinds[1], PointKind::kCorner);
+  EXPECT_EQ(p.input.kinds[2], PointKind::kClamped);
+  EXPECT_FALSE(p.input.start_tangent);
+  EXPECT_EQ(p.options, (json{{"a", 1}, {"lambdas", {0.5, 1}}}));
+}
+
+TEST(JsonInput, FromParsedDocument) {
+  const ParsedInput p = input_from_json(json{{"points", {{0, 0}, {1, 1}}}, {"method", "m"}});
+  EXPECT_EQ(p.input.points.size(), 2u);
+  EXPECT_EQ(p.method, "m");
+}
+
+struct BadField {
+  const char* text;
+  ErrorCode code;
+  const char* message_prefix;
+  std::optional<std::size_t> index;
+};
+
+TEST(JsonInput, EveryMalformedFieldIsNamed) {
+  const BadField cases[] = {
+      {R"({})", ErrorCode::kParseError, "missing field 'points'", std::nullopt},
+      {R"({"points": 3})", ErrorCode::kParseError, "points: expected an array", std::nullopt},
+      {R"({"points": [[0,0],[1,1],[2,2],[3]]})", ErrorCode::kParseError,
+       "points[3]: expected [x, y] with two numbers", 3},
+      {R"({"points": [[0,0],[1,"a"]]})", ErrorCode::kParseError,
+       "points[1]: expected [x, y] with two numbers", 1},
+      {R"({"points": [[0,0],{"x":1,"y":2}]})", ErrorCode::kParseError,
+       "points[1]: expected [x, y] with two numbers", 1},
+      {R"({"points": [[0,0,0]]})", ErrorCode::kParseError,
+       "points[0]: expected [x, y] with two numbers", 0},
+      {R"({"points": [[0,0],[1,1e999]]})", ErrorCode::kNonFinite, "points[1][1]: number", 1},
+      {R"({"points": [[0,0]], "closed": "yes"})", ErrorCode::kParseError,
+       "closed: expected true or false", std::nullopt},
+      {R"({"points": [[0,0]], "closed": 1})", ErrorCode::kParseError,
+       "closed: expected true or false", std::nullopt},
+      {R"({"points": [[0,0]], "tangents": {}})", ErrorCode::kParseError,
+       "tangents: expected an array", std::nullopt},
+      {R"({"points": [[0,0]], "tangents": [null, [1]]})", ErrorCode::kParseError,
+       "tangents[1]: expected [x, y] with two numbers or null", 1},
+      {R"({"points": [[0,0]], "tangents": [[1e999, 0]]})", ErrorCode::kNonFinite,
+       "tangents[0][0]: number", 0},
+      {R"({"points": [[0,0]], "kinds": ["smooth", "sharp"]})", ErrorCode::kParseError,
+       "kinds[1]: expected \"smooth\", \"clamped\" or \"corner\"", 1},
+      {R"({"points": [[0,0]], "kinds": [1]})", ErrorCode::kParseError, "kinds[0]: expected", 0},
+      {R"({"points": [[0,0]], "method": 3})", ErrorCode::kParseError,
+       "method: expected a method name string", std::nullopt},
+      {R"({"points": [[0,0]], "options": [1]})", ErrorCode::kParseError,
+       "options: expected an object", std::nullopt},
+      {R"({"points": [[0,0]], "alpha": "chordal"})", ErrorCode::kParseError,
+       "alpha: expected a number", std::nullopt},
+      {R"({"points": [[0,0]], "alpha": -1e999})", ErrorCode::kNonFinite, "alpha: number",
+       std::nullopt},
+      {R"({"points": [[0,0]], "knots": [0, "1"]})", ErrorCode::kParseError,
+       "knots[1]: expected a number", 1},
+      {R"({"points": [[0,0]], "knots": [0, 1e999]})", ErrorCode::kNonFinite, "knots[1]: number", 1},
+      {R"({"points": [[0,0]], "start_tangent": [1]})", ErrorCode::kParseError,
+       "start_tangent: expected [x, y] with two numbers", std::nullopt},
+      {R"({"points": [[0,0]], "end_tangent": "up"})", ErrorCode::kParseError,
+       "end_tangent: expected [x, y] with two numbers", std::nullopt},
+      {R"({"points": [[0,0]], "lambdas": [1, null]})", ErrorCode::kParseError,
+       "lambdas[1]: expected a number", 1},
+      {R"({"points": [[0,0]], "lambdas": [1], "options": {"lambdas": [2]}})",
+       ErrorCode::kParseError, "lambdas: given both", std::nullopt},
+      {R"({"pionts": [[0,0]]})", ErrorCode::kParseError, "unknown field 'pionts'", std::nullopt},
+      {R"({"points": [[0,0]], "Closed": true})", ErrorCode::kParseError, "unknown field 'Closed'",
+       std::nullopt},
+      {R"("points")", ErrorCode::kParseError, "expected a JSON object", std::nullopt},
+  };
+  for (const BadField& c : cases) {
+    const Error e = expect_error([&] { parse_json_input(c.text); });
+    EXPECT_EQ(e.code(), c.code) << c.text << " -> " << e.what();
+    EXPECT_TRUE(starts_with(e.what(), c.message_prefix)) << c.text << " -> " << e.what();
+    EXPECT_EQ(e.index(), c.index) << c.text;
+  }
+}
+
+TEST(JsonInput, SyntaxErrorGivesLineAndColumn) {
+  const Error e = expect_error([] { parse_json_input("{\n  \"points\": [[0, 0],\n  [1, x]]\n}"); });
+  EXPECT_EQ(e.code(), ErrorCode::kParseError);
+  EXPECT_EQ(e.index(), 3u);
+  EXPECT_TRUE(starts_with(e.what(), "invalid JSON at line 3, column 7")) << e.what();
+  const Error empty = expect_error([] { parse_json_input(""); });
+  EXPECT_EQ(empty.code(), ErrorCode::kParseError);
+  const Error truncated = expect_error([] { parse_json_input(R"({"points": [[0,0])"); });
+  EXPECT_EQ(truncated.code(), ErrorCode::kParseError);
+  const Error utf8 = expect_error([] { parse_json_input("{\"points\": \"\xff\"}"); });
+  EXPECT_EQ(utf8.code(), ErrorCode::kParseError);
+}
+
+TEST(JsonInput, DeepNestingIsRejectedWithoutCrashing) {
+  const std::string deep =
+      "{\"points\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  const Error e = expect_error([&] { parse_json_input(deep); });
+  EXPECT_EQ(e.code(), ErrorCode::kParseError);
+  const Error bare = expect_error([] { parse_json_input("[[0,0],[1e999,1]]"); });
+  EXPECT_EQ(bare.code(), ErrorCode::kNonFinite);
+  EXPECT_EQ(bare.index(), 1u);
+  EXPECT_TRUE(starts_with(bare.what(), "[1][0]: number")) << bare.what();
+}
+
+// ------------------------------------------------------------------ output
+
+void expect_number_or_null(const json& j, const char* key) {
+  ASSERT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j[key].is_number() || j[key].is_null()) << key << " = " << j[key];
+}
+
+void expect_pair(const json& j) {
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 2u);
+  EXPECT_TRUE(j[0].is_number());
+  EXPECT_TRUE(j[1].is_number());
+}
+
+TEST(JsonOutput, SchemaAtFullLevel) {
+  FitInput in;
+  in.points = kExample;
+  const FitResult r = fit("li-combined", in, json::object(), ReportLevel::kFull);
+  const json j = json::parse(write_json(r));
+  for (const char* key : {"method", "closed", "options", "points", "knots", "tangents", "segments",
+                          "report", "method_report"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["method"], "li-combined");
+  EXPECT_EQ(j["closed"], false);
+  EXPECT_TRUE(j["options"].is_object());
+  EXPECT_TRUE(j["method_report"].is_object());
+  ASSERT_EQ(j["points"].size(), 7u);
+  for (const auto& p : j["points"]) expect_pair(p);
+  ASSERT_EQ(j["tangents"].size(), 7u);
+  for (const auto& t : j["tangents"]) {
+    expect_pair(t);
+    EXPECT_NEAR(std::hypot(t[0].get<double>(), t[1].get<double>()), 1.0, 1e-12);
+  }
+  ASSERT_EQ(j["knots"].size(), 7u);
+  ASSERT_EQ(j["segments"].size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    const json& s = j["segments"][k];
+    ASSERT_EQ(s["bezier"].size(), 4u);
+    for (const auto& p : s["bezier"]) expect_pair(p);
+    EXPECT_TRUE(s["t0"].is_number());
+    EXPECT_TRUE(s["t1"].is_number());
+    EXPECT_TRUE(s["span"].is_number_unsigned());
+    EXPECT_EQ(s["span"], k);
+  }
+  const json& rep = j["report"];
+  for (const char* key : {"bending_energy", "linearized_energy", "curvature_variation_energy",
+                          "length", "max_tangent_angle_jump_deg", "max_curvature_jump",
+                          "min_relative_speed", "max_interpolation_residual"}) {
+    expect_number_or_null(rep, key);
+  }
+  EXPECT_TRUE(rep["regular"].is_boolean());
+  EXPECT_TRUE(rep["energy_singular"].is_boolean());
+  EXPECT_TRUE(rep["bending_energy"].is_number());
+  EXPECT_TRUE(rep["length"].is_number());
+  ASSERT_TRUE(rep.contains("segment_reports"));
+  ASSERT_TRUE(rep.contains("intersections"));
+  EXPECT_TRUE(rep["intersections"].is_array());
+  for (const auto& s : rep["segment_reports"]) {
+    for (const char* key : {"linearized_energy", "bending_energy", "curvature_variation_energy",
+                            "length", "min_relative_speed"}) {
+      EXPECT_TRUE(s[key].is_number()) << key;
+    }
+    for (const char* key : {"regular", "has_loop", "has_cusp", "has_fold"}) {
+      EXPECT_TRUE(s[key].is_boolean()) << key;
+    }
+  }
+}
+
+TEST(JsonOutput, IntersectionsAndSegmentReportsAreSerialized) {
+  FitResult r;
+  r.method = "m";
+  Report rep;
+  rep.bending_energy = 1.0;
+  rep.segments.resize(2);
+  rep.segments[1].has_loop = true;
+  rep.intersections.push_back({0, 1, 0.25, 0.75, {1.5, -2.5}});
+  r.report = rep;
+  const json j = to_json(r);
+  ASSERT_EQ(j["report"]["segment_reports"].size(), 2u);
+  EXPECT_EQ(j["report"]["segment_reports"][1]["has_loop"], true);
+  const json& x = j["report"]["intersections"][0];
+  EXPECT_EQ(x["segment_a"], 0);
+  EXPECT_EQ(x["segment_b"], 1);
+  EXPECT_EQ(x["u_a"], 0.25);
+  EXPECT_EQ(x["u_b"], 0.75);
+  EXPECT_EQ(x["point"], json({1.5, -2.5}));
+}
+
+TEST(JsonOutput, ReportAbsentOrPartialByLevel) {
+  FitInput in;
+  in.points = kExample;
+  const json none = to_json(fit("li-strain", in, json::object(), ReportLevel::kNone));
+  EXPECT_FALSE(none.contains("report"));
+  EXPECT_TRUE(none.contains("method_report"));
+  Report basic;  // what a basic level leaves unset
+  basic.linearized_energy = 2.0;
+  const json rb = to_json(basic);
+  EXPECT_TRUE(rb["bending_energy"].is_null());
+  EXPECT_TRUE(rb["curvature_variation_energy"].is_null());
+  EXPECT_TRUE(rb["length"].is_null());
+  EXPECT_EQ(rb["linearized_energy"], 2.0);
+  EXPECT_FALSE(rb.contains("segment_reports"));
+  EXPECT_FALSE(rb.contains("intersections"));
+}
+
+TEST(JsonOutput, DoublesRoundTripExactly) {
+  FitInput in;
+  in.points = {{0.1, 0.7}, {1.0 / 3.0, 2.0 / 7.0}, {2.718281828459045, 1e-17}, {3.3, -1e5}};
+  in.closed = true;
+  const FitResult r = fit("li-combined", in);
+  for (int indent : {-1, 2}) {
+    const json j = json::parse(write_json(r, indent));
+    for (std::size_t k = 0; k < r.spline.segments.size(); ++k) {
+      const Segment& s = r.spline.segments[k];
+      const json& js = j["segments"][k];
+      EXPECT_EQ(js["t0"].get<double>(), s.t0);
+      EXPECT_EQ(js["t1"].get<double>(), s.t1);
+      for (std::size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(js["bezier"][i][0].get<double>(), s.bezier.p[i].x);
+        EXPECT_EQ(js["bezier"][i][1].get<double>(), s.bezier.p[i].y);
+      }
+    }
+    for (std::size_t i = 0; i < r.knots.size(); ++i) {
+      EXPECT_EQ(j["knots"][i].get<double>(), r.knots[i]);
+    }
+    for (std::size_t i = 0; i < r.tangents.size(); ++i) {
+      EXPECT_EQ(j["tangents"][i][0].get<double>(), r.tangents[i].x);
+      EXPECT_EQ(j["tangents"][i][1].get<double>(), r.tangents[i].y);
+    }
+    EXPECT_EQ(j["report"]["linearized_energy"].get<double>(), r.report->linearized_energy);
+    EXPECT_EQ(j["report"]["bending_energy"].get<double>(), *r.report->bending_energy);
+  }
+}
+
+TEST(JsonOutput, ErrorToJson) {
+  const json with = error_to_json(Error(ErrorCode::kRepeatedPoint, "point 3 repeats", 3));
+  EXPECT_EQ(with,
+            (json{{"error",
+                   {{"code", "repeated_point"}, {"message", "point 3 repeats"}, {"index", 3}}}}));
+  const json without = error_to_json(Error(ErrorCode::kUnknownMethod, "nope"));
+  EXPECT_TRUE(without["error"]["index"].is_null());
+  EXPECT_EQ(without["error"]["code"], "unknown_method");
+}
+
+TEST(JsonText, ReportLevelAndPointKindNames) {
+  for (ReportLevel l : {ReportLevel::kNone, ReportLevel::kBasic, ReportLevel::kFull}) {
+    EXPECT_EQ(parse_report_level(report_level_name(l)), l);
+  }
+  EXPECT_THROW(parse_report_level("Full"), Error);
+  for (PointKind k : {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner}) {
+    EXPECT_EQ(parse_point_kind(point_kind_name(k)), k);
+  }
+  EXPECT_THROW(parse_point_kind("sharp"), Error);
+}
+
+TEST(JsonText, SummaryTable) {
+  FitInput in;
+  in.points = kExample;
+  const std::string full = summary_table(fit("li-combined", in));
+  for (const char* row :
+       {"method", "segments", "bending energy", "linearized energy", "curvature-variation energy",
+        "length", "regular", "max tangent jump", "max curvature jump"}) {
+    EXPECT_NE(full.find(row), std::string::npos) << row;
+  }
+  EXPECT_NE(full.find("li-combined"), std::string::npos);
+  // Aligned: every value starts in the same column.
+  std::istringstream ss(full);
+  std::string line;
+  std::size_t column = std::string::npos;
+  while (std::getline(ss, line)) {
+    const auto gap = line.find("  ");
+    ASSERT_NE(gap, std::string::npos) << line;
+    const auto value = line.find_first_not_of(' ', gap);
+    if (column == std::string::npos) column = value;
+    EXPECT_EQ(value, column) << line;
+  }
+  const std::string none =
+      summary_table(fit("li-combined", in, json::object(), ReportLevel::kNone));
+  EXPECT_NE(none.find("not computed"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fairspline::io
