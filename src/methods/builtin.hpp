@@ -10,6 +10,7 @@
 namespace fairspline::detail {
 
 std::vector<MethodInfo> li_methods();
+std::vector<MethodInfo> jaklic_zagar_methods();
 
 std::vector<MethodInfo> builtin_methods();
 
