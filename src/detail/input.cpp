@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 
+#include "detail/finite.hpp"
+#include "detail/knots.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
 
@@ -43,36 +47,95 @@ void check_tangent(Vec2 v, const char* what, std::size_t index) {
   }
 }
 
-std::size_t prepare_input(const FitInput& input, const InputRequirements& req, FitResult& out) {
-  out.closed = input.closed;
-  const auto& pts = input.points;
-  std::size_t n = pts.size();
-  for (std::size_t i = 0; i < n; ++i) {
+namespace {
+
+// The checks of the points, in order, each throwing with the offending index. Run only when
+// the fused pass below found something suspicious, so that messages stay exact.
+void check_points_slowly(std::span<const Point> pts, std::size_t n, bool closed) {
+  for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!is_finite(pts[i])) {
-      throw Error(ErrorCode::kNonFinite, "point " + std::to_string(i) + " has a NaN or infinite "
-                                         "coordinate", i);
+      throw Error(ErrorCode::kNonFinite,
+                  "point " + std::to_string(i) +
+                      " has a NaN or infinite "
+                      "coordinate",
+                  i);
     }
   }
-  // A closed curve given with its first point repeated at the end: drop the duplicate.
-  if (input.closed && n >= 2 && coincident(pts[0], pts[n - 1])) --n;
-  const std::size_t need = input.closed ? req.min_points_closed : req.min_points_open;
-  if (n < need) {
-    throw Error(ErrorCode::kTooFewPoints,
-                std::string(req.method) + " needs at least " + std::to_string(need) +
-                    " distinct points for " + (input.closed ? "a closed" : "an open") +
-                    " curve, got " + std::to_string(n));
-  }
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    if (maybe_coincident(pts[i], pts[i + 1]) && coincident(pts[i], pts[i + 1])) {
+    if (coincident(pts[i], pts[i + 1])) {
       throw Error(ErrorCode::kRepeatedPoint,
                   point_text(i + 1, pts[i + 1]) + " repeats point " + std::to_string(i) +
                       "; remove consecutive duplicates",
                   i + 1);
     }
   }
-  if (input.closed && coincident(pts[n - 1], pts[0])) {
+  if (closed && coincident(pts[n - 1], pts[0])) {
     throw Error(ErrorCode::kRepeatedPoint,
                 point_text(n - 1, pts[n - 1]) + " repeats the first point", n - 1);
+  }
+}
+
+// One pass over the points: finiteness, a cheap repeated-point pre-test, the copy into
+// out.points and (with_knots) the alpha knots. Returns false when a slow check must decide.
+template <AlphaKind K>
+bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double alpha,
+                bool with_knots, FitResult& out) {
+  const std::size_t spans = closed ? n : n - 1;
+  out.points.resize(n);
+  if (with_knots) out.knots.resize(spans + 1);
+  Point* dst = out.points.data();
+  double* knots = with_knots ? out.knots.data() : nullptr;
+  std::uint64_t bad = 0;
+  bool suspect = false;
+  double t = 0.0;
+  if (knots) knots[0] = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point p = pts[i];
+    bad |= non_finite_bits(p);
+    dst[i] = p;
+    if (i < spans) {
+      const Point q = pts[i + 1 == n ? 0 : i + 1];
+      suspect |= maybe_coincident(p, q);
+      if (knots) {
+        const double h = span_length<K>(q - p, alpha);
+        suspect |= !(h > 0.0);
+        t += h;
+        knots[i + 1] = t;
+      }
+    }
+  }
+  if (knots) bad |= non_finite_bits(t);
+  return bad == 0 && !suspect;
+}
+
+}  // namespace
+
+std::size_t prepare_input(const FitInput& input, const InputRequirements& req, FitResult& out) {
+  out.closed = input.closed;
+  const std::span<const Point> pts = input.points;
+  std::size_t n = pts.size();
+  // A closed curve given with its first point repeated at the end: drop the duplicate.
+  if (input.closed && n >= 2 && coincident(pts[0], pts[n - 1])) --n;
+  const std::size_t need = input.closed ? req.min_points_closed : req.min_points_open;
+  if (n < need) {
+    check_points_slowly(pts, 0, false);  // a NaN is the clearer message
+    throw Error(ErrorCode::kTooFewPoints, std::string(req.method) + " needs at least " +
+                                              std::to_string(need) + " distinct points for " +
+                                              (input.closed ? "a closed" : "an open") +
+                                              " curve, got " + std::to_string(n));
+  }
+  const bool with_knots = input.knots.empty();
+  const bool clean = with_alpha_kind(input.alpha, [&](auto kind) {
+    return fused_pass<kind.value>(pts, n, input.closed, input.alpha, with_knots, out);
+  });
+  if (!clean) {
+    check_points_slowly(pts, n, input.closed);
+    // Points are fine: the knots were the problem (alpha out of range, overflow), or the
+    // pre-test was merely cautious. alpha_knots throws the precise error if there is one.
+    if (with_knots) alpha_knots(out.points, input.alpha, input.closed, out.knots);
+  }
+  if (with_knots && !(input.alpha >= 0.0 && input.alpha <= 1.0)) {
+    alpha_knots(out.points, input.alpha, input.closed, out.knots);  // throws kBadOption
   }
   if (!input.tangents.empty() && input.tangents.size() != pts.size() &&
       input.tangents.size() != n) {
@@ -103,12 +166,9 @@ std::size_t prepare_input(const FitInput& input, const InputRequirements& req, F
                 "start tangent");
   }
 
-  out.points.assign(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(n));
-  if (!input.knots.empty()) {
+  if (!with_knots) {
     validate_knots(input.knots, n, input.closed);
     out.knots.assign(input.knots.begin(), input.knots.end());
-  } else {
-    alpha_knots(out.points, input.alpha, input.closed, out.knots);
   }
   return out.knots.size() - 1;
 }

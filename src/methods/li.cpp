@@ -197,7 +197,7 @@ void solve_tangents(const Problem& pb, std::vector<Vec2>& m) {
 // Unit direction of v; |v| by sqrt(norm2) unless that could under/overflow.
 inline Vec2 unit(Vec2 v) {
   const double n2 = norm2(v);
-  if (n2 > 1e-290 && n2 < 1e290) return v / std::sqrt(n2);
+  if (n2 > 1e-290 && n2 < 1e290) return (1.0 / std::sqrt(n2)) * v;
   return v / norm(v);
 }
 
@@ -251,8 +251,8 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
 
   out.spline.closed = pb.closed;
   auto& segments = out.spline.segments;
-  segments.clear();
-  segments.reserve(spans);
+  segments.resize(spans);  // no-op when the result is reused for same-size fits
+  Segment* seg = segments.data();
   double strain = 0.0, third = 0.0;
   std::uint64_t bad = 0;  // non-finite output, checked while the data is in registers
   const auto& P = pb.points;
@@ -260,10 +260,10 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
   for (std::size_t i = 0; i < spans; ++i) {
     const std::size_t j = (i + 1 == n) ? 0 : i + 1;
     const double h = t[i + 1] - t[i];
-    const double h3 = h / 3.0;
+    const double h3 = h * (1.0 / 3.0);
     const Point b1 = P[i] + h3 * m[i], b2 = P[j] - h3 * m[j];
     bad |= detail::non_finite_bits(b1) | detail::non_finite_bits(b2);
-    segments.push_back(Segment{CubicBezier{{P[i], b1, b2, P[j]}}, t[i], t[i + 1], i});
+    seg[i] = Segment{CubicBezier{{P[i], b1, b2, P[j]}}, t[i], t[i + 1], i};
     if (level != ReportLevel::kNone) {
       const Vec2 delta = (P[j] - P[i]) / h;
       strain += (4.0 / h) * (norm2(m[i]) + norm2(m[j]) + dot(m[i], m[j]) -
