@@ -23,10 +23,9 @@ void check_finite_output(const FitResult& r, std::string_view method) {
   }
   for (std::size_t i = 0; i < r.tangents.size(); ++i) {
     if (non_finite_bits(r.tangents[i])) {
-      throw Error(ErrorCode::kNonFinite, std::string(method) +
-                                             " produced a non-finite tangent at point " +
-                                             std::to_string(i),
-                  i);
+      throw Error(
+          ErrorCode::kNonFinite,
+          std::string(method) + " produced a non-finite tangent at point " + std::to_string(i), i);
     }
   }
 }

@@ -16,7 +16,9 @@ inline std::uint64_t non_finite_bits(double x) {
   return static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(x) & kExponent) == kExponent);
 }
 
-inline std::uint64_t non_finite_bits(Vec2 v) { return non_finite_bits(v.x) | non_finite_bits(v.y); }
+inline std::uint64_t non_finite_bits(Vec2 v) {
+  return non_finite_bits(v.x) | non_finite_bits(v.y);
+}
 
 inline std::uint64_t non_finite_bits(const Segment& s) {
   std::uint64_t bad = non_finite_bits(s.t0) | non_finite_bits(s.t1);
