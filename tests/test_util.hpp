@@ -7,13 +7,17 @@
 #include <random>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/vec2.hpp"
 
 namespace fairspline::testing {
 
 /// Random walk with turn angles uniform in ±max_turn_deg and steps uniform in [0.5, 2].
-inline std::vector<Point> random_walk(std::size_t n, std::uint64_t seed, double max_turn_deg = 120) {
+inline std::vector<Point> random_walk(std::size_t n, std::uint64_t seed,
+                                      double max_turn_deg = 120) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> turn(-max_turn_deg * std::numbers::pi / 180,
                                               max_turn_deg * std::numbers::pi / 180);
@@ -60,6 +64,33 @@ inline double scale_of(const std::vector<Point>& pts) {
   double s = 0;
   for (const Point& p : pts) s = std::max({s, std::abs(p.x), std::abs(p.y)});
   return s;
+}
+
+/// True when b traverses a's curve backwards: same number of pieces, piece k of a equals
+/// piece m-1-k of b reversed, control points within tol.
+inline bool is_reversed_curve(const FitResult& a, const FitResult& b, double tol) {
+  const std::size_t m = a.spline.segments.size();
+  if (b.spline.segments.size() != m) return false;
+  for (std::size_t k = 0; k < m; ++k) {
+    const auto& fwd = a.spline.segments[k].bezier;
+    const auto& bwd = b.spline.segments[m - 1 - k].bezier;
+    for (int j = 0; j < 4; ++j) {
+      if (!(norm(fwd.p[j] - bwd.p[3 - j]) <= tol)) return false;
+    }
+  }
+  return true;
+}
+
+/// Runs `fn`, expects a fairspline::Error and returns it (a test failure otherwise).
+template <typename F>
+Error expect_error(F&& fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected fairspline::Error";
+  return Error(ErrorCode::kInvalidArgument, "no error");
 }
 
 }  // namespace fairspline::testing

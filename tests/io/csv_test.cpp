@@ -9,23 +9,15 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.hpp"
+
 #include "fairspline/error.hpp"
 #include "fairspline/registry.hpp"
 
 namespace fairspline::io {
 namespace {
 
-/// Runs `fn`, expects a fairspline::Error and returns it.
-template <typename F>
-Error expect_error(F&& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected fairspline::Error";
-  return Error(ErrorCode::kInvalidArgument, "no error");
-}
+using fairspline::testing::expect_error;
 
 std::vector<Point> pts(std::initializer_list<Point> p) {
   return p;

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.hpp"
+
 #include "fairspline/error.hpp"
 #include "fairspline/registry.hpp"
 
@@ -14,16 +16,7 @@ namespace {
 
 using nlohmann::json;
 
-template <typename F>
-Error expect_error(F&& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected fairspline::Error";
-  return Error(ErrorCode::kInvalidArgument, "no error");
-}
+using fairspline::testing::expect_error;
 
 bool starts_with(const std::string& s, const std::string& prefix) {
   return s.rfind(prefix, 0) == 0;
