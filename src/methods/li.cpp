@@ -1,9 +1,9 @@
 #include "fairspline/methods/li.hpp"
 
 #include <algorithm>
-#include <span>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -230,8 +230,9 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
   for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
     if (input.kinds[i] == PointKind::kCorner) {
       throw Error(ErrorCode::kInvalidArgument,
-                  "point " + std::to_string(i) + " is a corner, but the Li methods build one C1 "
-                  "curve; split the input at the corner or use min-energy",
+                  "point " + std::to_string(i) +
+                      " is a corner, but the Li methods build one C1 "
+                      "curve; split the input at the corner or use min-energy",
                   i);
     }
     if (input.kinds[i] == PointKind::kClamped) fix(i, *input.tangents[i]);
@@ -257,21 +258,9 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
   std::uint64_t bad = 0;  // non-finite output, checked while the data is in registers
   const auto& P = pb.points;
   const auto& t = pb.knots;
-  for (std::size_t i = 0; i < spans; ++i) {
-    const std::size_t j = (i + 1 == n) ? 0 : i + 1;
-    const double h = t[i + 1] - t[i];
-    const double h3 = h * (1.0 / 3.0);
-    const Point b1 = P[i] + h3 * m[i], b2 = P[j] - h3 * m[j];
-    bad |= detail::non_finite_bits(b1) | detail::non_finite_bits(b2);
-    seg[i] = Segment{CubicBezier{{P[i], b1, b2, P[j]}}, t[i], t[i + 1], i};
-    if (level != ReportLevel::kNone) {
-      const Vec2 delta = (P[j] - P[i]) / h;
-      strain += (4.0 / h) * (norm2(m[i]) + norm2(m[j]) + dot(m[i], m[j]) -
-                             3.0 * dot(m[i] + m[j], delta) + 3.0 * norm2(delta));
-      third += (36.0 / (h * h * h)) * norm2(m[i] + m[j] - 2.0 * delta);
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
+  // m_i becomes the unit tangent as soon as the last piece using it is built (one pass over
+  // the data). A closed curve's last piece uses m_0 again: keep that one raw.
+  auto to_unit = [&](std::size_t i) {
     if (m[i].x != 0.0 || m[i].y != 0.0) {
       m[i] = unit(m[i]);
     } else {
@@ -282,7 +271,25 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
       m[i] = unit(chord);
     }
     bad |= detail::non_finite_bits(m[i]);
+  };
+  const Vec2 m0 = m[0];
+  for (std::size_t i = 0; i < spans; ++i) {
+    const std::size_t j = (i + 1 == n) ? 0 : i + 1;
+    const Vec2 mi = i == 0 ? m0 : m[i], mj = j == 0 ? m0 : m[j];
+    const double h = t[i + 1] - t[i];
+    const double h3 = h * (1.0 / 3.0);
+    const Point b1 = P[i] + h3 * mi, b2 = P[j] - h3 * mj;
+    bad |= detail::non_finite_bits(b1) | detail::non_finite_bits(b2);
+    seg[i] = Segment{CubicBezier{{P[i], b1, b2, P[j]}}, t[i], t[i + 1], i};
+    if (level != ReportLevel::kNone) {
+      const Vec2 delta = (P[j] - P[i]) / h;
+      strain += (4.0 / h) * (norm2(mi) + norm2(mj) + dot(mi, mj) - 3.0 * dot(mi + mj, delta) +
+                             3.0 * norm2(delta));
+      third += (36.0 / (h * h * h)) * norm2(mi + mj - 2.0 * delta);
+    }
+    to_unit(i);
   }
+  if (!pb.closed) to_unit(n - 1);
   // Points were checked by prepare_input; knots are finite there too. Name the culprit.
   if (bad) detail::check_finite_output(out, "the Li method");
   out.method_report = {{"weights", {w1, w2}},
@@ -339,9 +346,9 @@ std::vector<MethodInfo> li_methods() {
       [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
         const auto& w = o.at("weights");
         if (w.size() != 2) {
-          throw Error(ErrorCode::kBadOption,
-                      "option 'weights' of li-combined must have two entries [w1, w2], got " +
-                          w.dump());
+          throw Error(
+              ErrorCode::kBadOption,
+              "option 'weights' of li-combined must have two entries [w1, w2], got " + w.dump());
         }
         fit_li(in, {w[0].get<double>(), w[1].get<double>()}, level, out);
       },
