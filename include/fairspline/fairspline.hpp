@@ -12,6 +12,7 @@
 #include "fairspline/vec2.hpp"
 #include "fairspline/methods/li.hpp"
 #include "fairspline/methods/jaklic_zagar.hpp"
+#include "fairspline/methods/yong_cheng.hpp"
 #include "fairspline/io/csv.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/svg.hpp"

@@ -1,0 +1,807 @@
+// Yong–Cheng OGH / COH curves. See include/fairspline/methods/yong_cheng.hpp and
+// docs/methods/yong-cheng.md for the reconstruction of M2, M3 and the dispatcher.
+#include "fairspline/methods/yong_cheng.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <string>
+
+#include "detail/finite.hpp"
+#include "detail/input.hpp"
+#include "detail/knots.hpp"
+#include "fairspline/error.hpp"
+#include "fairspline/registry.hpp"
+
+namespace fairspline {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kThird = 1.0 / 3.0;
+const double kCos30 = std::sqrt(3.0) / 2.0;
+
+// ---- small complex-number helpers on unit vectors (local frame) ----
+inline Vec2 mul(Vec2 a, Vec2 b) {
+  return {a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x};
+}
+inline Vec2 conj(Vec2 a) {
+  return {a.x, -a.y};
+}
+inline Vec2 unit(Vec2 a) {
+  return a / std::sqrt(norm2(a));
+}
+/// Unit vector of any finite non-zero vector (no overflow or underflow of the squared norm).
+inline Vec2 safe_unit(Vec2 a) {
+  const double m = std::max(std::abs(a.x), std::abs(a.y));
+  return unit(a / m);
+}
+inline Vec2 expi(double a) {
+  return {std::cos(a), std::sin(a)};
+}
+/// Unit vector at half the angle of the unit vector u (angle in (−π, π)).
+inline Vec2 half(Vec2 u) {
+  return unit({1.0 + u.x, u.y});
+}
+/// Unit bisector of two unit vectors less than π apart.
+inline Vec2 bisector(Vec2 a, Vec2 b) {
+  return unit(a + b);
+}
+/// Angle of u in [0, 2π).
+inline double angle_2pi(Vec2 u) {
+  const double a = std::atan2(u.y, u.x);
+  return a < 0.0 ? a + 2.0 * kPi : a;
+}
+
+void check_vector(Vec2 v, const char* what) {
+  if (!is_finite(v)) throw Error(ErrorCode::kNonFinite, std::string(what) + " is not finite");
+  if (v.x == 0.0 && v.y == 0.0) {
+    throw Error(ErrorCode::kInvalidArgument, std::string(what) + " is the zero vector");
+  }
+}
+
+void check_interval(double t0, double t1) {
+  if (!(std::isfinite(t0) && std::isfinite(t1) && t1 > t0)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "the parameter interval [t0, t1] must be finite with t0 < t1");
+  }
+}
+
+double finite_or_throw(double x, const char* what) {
+  if (!std::isfinite(x)) throw Error(ErrorCode::kNonFinite, std::string(what) + " overflows");
+  return x;
+}
+
+/// OGH magnitudes m0 = a0*(t1 − t0)|V0|, m1 for a chord q and unit directions u0, u1:
+/// the solution of 2 m0 + c m1 = 3 q·u0, c m0 + 2 m1 = 3 q·u1 with c = u0·u1 (proof of Thm 2).
+inline OghCoefficients ogh_magnitudes(Vec2 q, Vec2 u0, Vec2 u1) {
+  const double c = dot(u0, u1);
+  const double p0 = dot(q, u0), p1 = dot(q, u1);
+  const double inv = 1.0 / (4.0 - c * c);
+  return {(6.0 * p0 - 3.0 * c * p1) * inv, (6.0 * p1 - 3.0 * c * p0) * inv};
+}
+
+/// E_unit from the cosines/sines of θ, φ (see ogh_unit_energy).
+inline double unit_energy(Vec2 u0, Vec2 u1) {
+  const double c = dot(u0, u1);     // cos(θ − φ)
+  const double sd = cross(u1, u0);  // sin(θ − φ)
+  const double num = 3.0 * u0.y * u0.y + 3.0 * u1.y * u1.y - 3.0 * u0.y * u1.y * c - 2.0 * sd * sd;
+  return 12.0 * std::max(num, 0.0) / (4.0 - c * c);
+}
+
+// ---- COH constructions in the local frame P0 = (0, 0), P1 = (1, 0) ----
+
+/// Nodes and unit directions of a construction in the local frame: q[0] = (0, 0),
+/// q[count] = (1, 0); u[0] and u[count] are the given end directions.
+struct Polygon {
+  int count = 1;
+  std::array<Vec2, 4> q{};
+  std::array<Vec2, 4> u{};
+};
+
+struct LocalData {
+  Vec2 u0;  // (cos θ, sin θ)
+  Vec2 u1;  // (cos φ, sin φ)
+};
+
+constexpr bool has_t(CohSymmetry s) {
+  return s == CohSymmetry::kT || s == CohSymmetry::kRT;
+}
+constexpr bool has_r(CohSymmetry s) {
+  return s == CohSymmetry::kR || s == CohSymmetry::kRT;
+}
+constexpr CohSymmetry make_symmetry(bool t, bool r) {
+  return t ? (r ? CohSymmetry::kRT : CohSymmetry::kT) : (r ? CohSymmetry::kR : CohSymmetry::kNone);
+}
+
+/// The symmetry acting on the end conditions (an involution; T and R commute).
+LocalData apply(CohSymmetry s, LocalData d) {
+  if (has_r(s)) d = {conj(d.u1), conj(d.u0)};
+  if (has_t(s)) d = {conj(d.u0), conj(d.u1)};
+  return d;
+}
+
+/// The symmetry acting on a construction: T mirrors about the base line, R mirrors about the
+/// perpendicular bisector x = 1/2 and reverses the order.
+Polygon apply(CohSymmetry s, Polygon p) {
+  if (has_r(s)) {
+    Polygon r;
+    r.count = p.count;
+    for (int k = 0; k <= p.count; ++k) {
+      r.q[k] = {1.0 - p.q[p.count - k].x, p.q[p.count - k].y};
+      r.u[k] = conj(p.u[p.count - k]);
+    }
+    r.q[0] = {0.0, 0.0};
+    r.q[r.count] = {1.0, 0.0};
+    p = r;
+  }
+  if (has_t(s)) {
+    for (int k = 0; k <= p.count; ++k) {
+      p.q[k].y = -p.q[k].y;
+      p.u[k] = conj(p.u[k]);
+    }
+  }
+  return p;
+}
+
+[[noreturn]] void no_joint(const char* method) {
+  throw Error(ErrorCode::kInfeasible, std::string("COH method ") + method +
+                                          ": the joints do not exist for these tangent angles "
+                                          "(outside the method's applicable region)");
+}
+
+/// Intersection A + s·da = B − u·db with s, u > 0 (rays from A forwards and from B backwards).
+Point meet(Point a, Vec2 da, Point b, Vec2 db, const char* method) {
+  const double den = cross(da, db);
+  const Vec2 ab = b - a;
+  const double s = cross(ab, db) / den;
+  const double u = cross(da, ab) / den;
+  if (!(s > 0.0 && u > 0.0 && std::isfinite(s) && std::isfinite(u))) no_joint(method);
+  return a + s * da;
+}
+
+Polygon two(Vec2 u0, Point t, Vec2 vt, Vec2 u1) {
+  return {2, {Vec2{0.0, 0.0}, t, Vec2{1.0, 0.0}, Vec2{}}, {u0, vt, u1, Vec2{}}};
+}
+
+Polygon three(Vec2 u0, Point t0, Vec2 v0, Point t1, Vec2 v1, Vec2 u1) {
+  return {3, {Vec2{0.0, 0.0}, t0, t1, Vec2{1.0, 0.0}}, {u0, v0, v1, u1}};
+}
+
+// M1, (θ, φ) ∈ [0, π/6] × [π/3, 2π/3]: |TP1| = |P0P1|/3 with ∠(TP1, V1) = φ/2; V_t bisects
+// ∠(P0T, TP1).
+Polygon build_m1(LocalData d) {
+  const Vec2 h1 = half(d.u1);  // direction of TP1 (angle φ/2)
+  const Point t = Vec2{1.0, 0.0} - kThird * h1;
+  return two(d.u0, t, bisector(unit(t), h1), d.u1);
+}
+
+// M2, (θ, φ) ∈ [0, π/3] × [π, 5π/3] ∪ [π/3, 2π/3] × [4π/3, 5π/3]. P0T at angle β = θ − φ1
+// (φ1 = θ − π/18 for θ < π/9, else θ/2); ∠(V1, TP1) = ∠(TP1, V_t) = ∠(V_t, P0T) = ϕ. The paper
+// prints ϕ = (2π − φ + φ1)/3, which closes the turn only when φ1 = θ/2; the consistent value is
+// ϕ = (2π − φ + β)/3 (docs).
+Polygon build_m2(LocalData d) {
+  const Vec2 e_beta = d.u0.x > std::cos(20.0 * kDeg) && d.u0.y < std::sin(20.0 * kDeg)
+                          ? Vec2{std::cos(10.0 * kDeg), std::sin(10.0 * kDeg)}
+                          : half(d.u0);
+  const double beta = std::atan2(e_beta.y, e_beta.x);
+  const double phi = (angle_2pi(conj(d.u1)) + beta) / 3.0;
+  const Vec2 r = expi(phi);
+  const Vec2 dir_tp1 = mul(d.u1, r);
+  const Point t = meet({0.0, 0.0}, e_beta, {1.0, 0.0}, dir_tp1, "M2");
+  return two(d.u0, t, mul(dir_tp1, r), d.u1);
+}
+
+// M3, (θ, φ) ∈ [0, π/3] × [π/3, π]. ϕ6 = φ/3, so T1P1 is at α5 = 2φ/3; P0T0 at
+// α1 = (θ − φ/3)/2 − π/18 with T0 on the perpendicular bisector x = 1/2; T0T1 at
+// α3 = 17π/9 (−20°); V_t0, V_t1 bisect the chord directions meeting there (docs: the paper's
+// α2, α4 formulas are garbled; bisectors are what its figure and Theorem 6 need).
+Polygon build_m3(LocalData d) {
+  const double phi_angle = angle_2pi(d.u1);
+  const double theta = std::atan2(d.u0.y, d.u0.x);
+  const Vec2 e5 = expi(2.0 * phi_angle / 3.0);
+  const Vec2 e1 = expi((theta - phi_angle / 3.0) / 2.0 - 10.0 * kDeg);
+  const Vec2 e3{std::cos(20.0 * kDeg), -std::sin(20.0 * kDeg)};
+  const Point t0{0.5, 0.5 * e1.y / e1.x};
+  if (!(e1.x > 0.0)) no_joint("M3");
+  const Point t1 = meet(t0, e3, {1.0, 0.0}, e5, "M3");
+  return three(d.u0, t0, bisector(e1, e3), t1, bisector(e3, e5), d.u1);
+}
+
+// M4, (θ, φ) ∈ [π/3, 2π/3] × [0, 2π/3]: P0T0 at θ/2 with length 1/3, T1P1 at φ/2 with length
+// 1/6; V_t0, V_t1 bisect the chord directions.
+Polygon build_m4(LocalData d) {
+  const Vec2 h0 = half(d.u0), h1 = half(d.u1);
+  const Point t0 = kThird * h0;
+  const Point t1 = Vec2{1.0, 0.0} - (1.0 / 6.0) * h1;
+  const Vec2 c = unit(t1 - t0);
+  return three(d.u0, t0, bisector(h0, c), t1, bisector(c, h1), d.u1);
+}
+
+/// The three chord directions and two joint directions of an equal-angle construction
+/// turning by ϕ per end angle (r = e^{±iϕ}) starting from u0.
+struct Fan {
+  Vec2 d1, v0, d2, v1, d3;
+};
+Fan fan(Vec2 u0, Vec2 r) {
+  Fan f;
+  f.d1 = mul(u0, r);
+  f.v0 = mul(f.d1, r);
+  f.d2 = mul(f.v0, r);
+  f.v1 = mul(f.d2, r);
+  f.d3 = mul(f.v1, r);
+  return f;
+}
+
+// M5, (θ, φ) ∈ [π/3, 2π/3] × [π, 4π/3] ∪ [2π/3, π] × [π, 5π/3]: six equal clockwise end angles
+// ϕ = (2π + θ − φ)/6 and T0T1 tangent to the circle on P0P1 as diameter.
+Polygon build_m5(LocalData d) {
+  double total = std::atan2(cross(d.u1, d.u0), dot(d.u1, d.u0));  // θ − φ modulo 2π
+  if (total < kPi / 3.0) total += 2.0 * kPi;
+  const Fan f = fan(d.u0, conj(expi(total / 6.0)));
+  const Vec2 n = perp(f.d2);  // the arch lies on the left of T0T1
+  const Point m{0.5, 0.0};
+  const double s = (0.5 + dot(n, m)) / dot(n, f.d1);
+  const double u = (dot(n, Vec2{1.0, 0.0} - m) - 0.5) / dot(n, f.d3);
+  if (!(s > 0.0 && u > 0.0 && std::isfinite(s) && std::isfinite(u))) no_joint("M5");
+  const Point t0 = s * f.d1, t1 = Vec2{1.0, 0.0} - u * f.d3;
+  if (!(dot(t1 - t0, f.d2) > 0.0)) no_joint("M5");
+  return three(d.u0, t0, f.v0, t1, f.v1, d.u1);
+}
+
+// M6, (θ, φ) ∈ [2π/3, π] × [π/6, 2π/3]: T1P1 at α5 = φ/2, five equal counter-clockwise end
+// angles ϕ = (2π + α5 − θ)/5, |P0T0| = |P0P1|/2.
+Polygon build_m6(LocalData d) {
+  const Vec2 h1 = half(d.u1);
+  const double total = 2.0 * kPi + std::atan2(cross(d.u0, h1), dot(d.u0, h1));
+  const Fan f = fan(d.u0, expi(total / 5.0));
+  const Point t0 = 0.5 * f.d1;
+  const Point t1 = meet(t0, f.d2, {1.0, 0.0}, h1, "M6");
+  return three(d.u0, t0, f.v0, t1, f.v1, d.u1);
+}
+
+// M7, (θ, φ) ∈ [2π/3, π]²: six equal counter-clockwise end angles ϕ = (2π + φ − θ)/6,
+// |P0T0| = |P0P1|/2.
+Polygon build_m7(LocalData d) {
+  const double total = 2.0 * kPi + std::atan2(cross(d.u0, d.u1), dot(d.u0, d.u1));
+  const Fan f = fan(d.u0, expi(total / 6.0));
+  const Point t0 = 0.5 * f.d1;
+  const Point t1 = meet(t0, f.d2, {1.0, 0.0}, f.d3, "M7");
+  return three(d.u0, t0, f.v0, t1, f.v1, d.u1);
+}
+
+Polygon build_base(CohMethod m, LocalData d) {
+  switch (m) {
+    case CohMethod::kM0:
+      return {1, {Vec2{0.0, 0.0}, Vec2{1.0, 0.0}, Vec2{}, Vec2{}}, {d.u0, d.u1, Vec2{}, Vec2{}}};
+    case CohMethod::kM1:
+      return build_m1(d);
+    case CohMethod::kM2:
+      return build_m2(d);
+    case CohMethod::kM3:
+      return build_m3(d);
+    case CohMethod::kM4:
+      return build_m4(d);
+    case CohMethod::kM5:
+      return build_m5(d);
+    case CohMethod::kM6:
+      return build_m6(d);
+    case CohMethod::kM7:
+      return build_m7(d);
+  }
+  return {};
+}
+
+/// M_i^s for local end data: build M_i on s(data) and map the construction back by s.
+Polygon build(CohMethod m, CohSymmetry s, LocalData d) {
+  Polygon p = apply(s, build_base(m, apply(s, d)));
+  // The end directions are the given ones exactly (sign flips are exact; copy regardless).
+  p.u[0] = d.u0;
+  p.u[p.count] = d.u1;
+  return p;
+}
+
+/// The canonical image (Section 4's symmetries as a Klein four-group acting on (θ, φ)):
+/// returns g with g(data) in D = {0 ≤ θ ≤ π, |φ| ≤ θ}.
+CohSymmetry canonical(LocalData d) {
+  if (d.u0.x <= d.u1.x) return d.u0.y >= 0.0 ? CohSymmetry::kNone : CohSymmetry::kT;  // |θ| ≥ |φ|
+  return d.u1.y >= 0.0 ? CohSymmetry::kRT : CohSymmetry::kR;
+}
+
+/// The table on D (angles in degrees, θ ∈ [0, 180], φ ∈ [−θ, θ]); fewest pieces first. The
+/// regions are closed: a threshold on a cosine or sine gives way by kClosed (far below any
+/// construction's margin) to the construction with fewer pieces, so that rounding of angles
+/// that lie on a region's edge does not cost a piece. M0 keeps (6) strict.
+CohChoice choose_canonical(LocalData c) {
+  constexpr double kClosed = 1e-12;
+  const double c0 = c.u0.x, s0 = c.u0.y, c1 = c.u1.x, s1 = c.u1.y;
+  if (c0 > kThird) return {CohMethod::kM0, CohSymmetry::kNone};  // (6)
+  if (s1 <= kClosed && c1 >= 0.5 - kClosed)
+    return {CohMethod::kM2, CohSymmetry::kR};                               // φ ∈ [−60, 0]
+  if (c0 >= -0.5 - kClosed) {                                               // θ ≤ 120
+    if (s1 < 0.0) return {CohMethod::kM2, CohSymmetry::kNone};              // φ < −60
+    if (c1 >= kCos30 - kClosed) return {CohMethod::kM1, CohSymmetry::kRT};  // φ ∈ (0, 30]
+    return {CohMethod::kM4, CohSymmetry::kNone};                            // φ ∈ (30, θ]
+  }
+  if (s1 < 0.0) return {CohMethod::kM5, CohSymmetry::kNone};  // φ < −60
+  // θ = π: M2^RT's region [π, 5π/3] × [0, π/3] meets D on this line only.
+  if (s0 <= kClosed && c1 >= 0.5 - kClosed)
+    return {CohMethod::kM2, CohSymmetry::kRT};                  // φ ∈ (0, 60]
+  if (c1 > kCos30) return {CohMethod::kM3, CohSymmetry::kRT};   // φ ∈ (0, 30)
+  if (c1 >= -0.5) return {CohMethod::kM6, CohSymmetry::kNone};  // φ ∈ [30, 120]
+  return {CohMethod::kM7, CohSymmetry::kNone};                  // φ ∈ (120, θ]
+}
+
+constexpr CohSymmetry compose(CohSymmetry a, CohSymmetry b) {
+  return make_symmetry(has_t(a) != has_t(b), has_r(a) != has_r(b));
+}
+
+CohChoice choose(LocalData d) {
+  const CohSymmetry g = canonical(d);
+  const CohChoice base = choose_canonical(apply(g, d));
+  if (base.method == CohMethod::kM0) return base;
+  // Data d = g(c); M_i^h applies at c, so M_i^(h∘g) applies at d.
+  return {base.method, compose(base.symmetry, g)};
+}
+
+/// World frame of a span: X = p0 + x·d + y·perp(d).
+struct Frame {
+  Point p0;
+  Vec2 d;
+  Point to_world(Vec2 l) const { return p0 + l.x * d + l.y * perp(d); }
+  Vec2 dir_to_world(Vec2 l) const { return l.x * d + l.y * perp(d); }
+};
+
+LocalData local_data(Point p0, Point p1, Vec2 v0, Vec2 v1) {
+  const Vec2 d = safe_unit(p1 - p0);
+  const Vec2 w0 = safe_unit(v0), w1 = safe_unit(v1);
+  return {unit(Vec2{dot(d, w0), cross(d, w0)}), unit(Vec2{dot(d, w1), cross(d, w1)})};
+}
+
+/// Pieces of a construction in world coordinates.
+CohCurve realize(CohMethod m, CohSymmetry s, const Polygon& p, const Frame& f) {
+  CohCurve out;
+  out.method = m;
+  out.symmetry = s;
+  out.count = p.count;
+  const double len = std::sqrt(norm2(f.d));
+  for (int k = 0; k < p.count; ++k) {
+    const Vec2 q = p.q[k + 1] - p.q[k];
+    const OghCoefficients mk = ogh_magnitudes(q, p.u[k], p.u[k + 1]);
+    const Point b0 = f.to_world(p.q[k]);
+    const Point b3 = f.to_world(p.q[k + 1]);
+    const Point b1 = f.to_world(p.q[k] + (mk.a0 * kThird) * p.u[k]);
+    const Point b2 = f.to_world(p.q[k + 1] - (mk.a1 * kThird) * p.u[k + 1]);
+    out.pieces[k] = {{b0, b1, b2, b3}};
+    out.coefficients[k] = {mk.a0 * len, mk.a1 * len};
+    out.preserved = out.preserved && mk.a0 > 0.0 && mk.a1 > 0.0;
+  }
+  return out;
+}
+
+void check_ends(Point p0, Point p1, Vec2 v0, Vec2 v1) {
+  if (!is_finite(p0) || !is_finite(p1)) throw Error(ErrorCode::kNonFinite, "a point is not finite");
+  if (detail::coincident(p0, p1)) {
+    throw Error(ErrorCode::kRepeatedPoint, "the two end points coincide");
+  }
+  check_vector(v0, "V0");
+  check_vector(v1, "V1");
+}
+
+}  // namespace
+
+// ---- OGH ----
+
+OghCoefficients ogh_coefficients(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
+  check_vector(v0, "V0");
+  check_vector(v1, "V1");
+  check_interval(t0, t1);
+  const Vec2 d = p1 - p0;
+  const double vv = dot(v0, v1), v00 = norm2(v0), v11 = norm2(v1);
+  const double den = (4.0 * v00 * v11 - vv * vv) * (t1 - t0);
+  const double a0 = (6.0 * dot(d, v0) * v11 - 3.0 * dot(d, v1) * vv) / den;
+  const double a1 = (6.0 * dot(d, v1) * v00 - 3.0 * dot(d, v0) * vv) / den;
+  return {finite_or_throw(a0, "a0*"), finite_or_throw(a1, "a1*")};
+}
+
+double ogh_equal_ratio_coefficient(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
+  check_vector(v0, "V0");
+  check_vector(v1, "V1");
+  check_interval(t0, t1);
+  const double a =
+      3.0 * dot(p1 - p0, v0 + v1) / (2.0 * (norm2(v0) + dot(v0, v1) + norm2(v1)) * (t1 - t0));
+  return finite_or_throw(a, "a*");
+}
+
+CubicBezier hermite_bezier(Point p0, Point p1, Vec2 w0, Vec2 w1, double t0, double t1) {
+  const double h = (t1 - t0) / 3.0;
+  return {{p0, p0 + h * w0, p1 - h * w1, p1}};
+}
+
+CubicBezier ogh_segment(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
+  const OghCoefficients a = ogh_coefficients(p0, p1, v0, v1, t0, t1);
+  return hermite_bezier(p0, p1, a.a0 * v0, a.a1 * v1, t0, t1);
+}
+
+double hermite_strain_energy(Point p0, Point p1, Vec2 w0, Vec2 w1, double t0, double t1) {
+  check_interval(t0, t1);
+  // Q''(t) is linear: B at t0, A + B at t1 (the paper's A and B), ∫ = h(B² + A·B + A²/3).
+  const double h = t1 - t0;
+  const Vec2 d = p1 - p0;
+  const Vec2 b = (6.0 / (h * h)) * d - (4.0 / h) * w0 - (2.0 / h) * w1;
+  const Vec2 a = (-12.0 / (h * h)) * d + (6.0 / h) * (w0 + w1);
+  return h * (norm2(b) + dot(a, b) + norm2(a) / 3.0);
+}
+
+double ogh_strain_energy(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
+  check_vector(v0, "V0");
+  check_vector(v1, "V1");
+  check_interval(t0, t1);
+  const Vec2 d = p1 - p0;
+  if (d.x == 0.0 && d.y == 0.0) return 0.0;  // a0 = a1 = 0: the constant curve
+  const LocalData l = local_data(p0, p1, v0, v1);
+  const double h = t1 - t0;
+  return finite_or_throw(unit_energy(l.u0, l.u1) * norm2(d) / (h * h * h), "the OGH energy");
+}
+
+double ogh_unit_energy(double theta, double phi) {
+  return unit_energy(expi(theta), expi(phi));
+}
+
+bool ogh_preserves_directions(double theta, double phi) {
+  return 3.0 * std::cos(theta) > std::cos(theta - 2.0 * phi) &&
+         3.0 * std::cos(phi) > std::cos(phi - 2.0 * theta);
+}
+
+bool ogh_geometrically_smooth(double theta, double phi) {
+  return std::cos(theta) > kThird && std::cos(phi) > kThird;
+}
+
+TangentAngles tangent_angles(Point p0, Point p1, Vec2 v0, Vec2 v1) {
+  const Vec2 d = p1 - p0;
+  return {std::atan2(cross(d, v0), dot(d, v0)), std::atan2(cross(d, v1), dot(d, v1))};
+}
+
+// ---- COH ----
+
+int coh_piece_count(CohMethod method) {
+  switch (method) {
+    case CohMethod::kM0:
+      return 1;
+    case CohMethod::kM1:
+    case CohMethod::kM2:
+      return 2;
+    default:
+      return 3;
+  }
+}
+
+std::string coh_name(CohMethod method, CohSymmetry symmetry) {
+  // A lookup (not string concatenation: GCC 12 raises a false -Wrestrict on `s + "^T"`).
+  static constexpr const char* kSuffix[] = {"", "^T", "^R", "^RT"};
+  std::string name(1, 'M');
+  name.push_back(static_cast<char>('0' + static_cast<int>(method)));
+  if (method != CohMethod::kM0) name.append(kSuffix[static_cast<int>(symmetry)]);
+  return name;
+}
+
+bool coh_applicable(CohMethod method, CohSymmetry symmetry, double theta, double phi) {
+  if (method == CohMethod::kM0) {
+    return ogh_geometrically_smooth(theta, phi);  // M0^s = M0: (6) is symmetric
+  }
+  // Map the angles to the base method's frame (the symmetries are involutions).
+  const LocalData d = apply(symmetry, LocalData{expi(theta), expi(phi)});
+  const double th = angle_2pi(d.u0) / kDeg, ph = angle_2pi(d.u1) / kDeg;
+  // Angles at the upper end 2π are also 0; test both representatives.
+  auto in = [](double x, double lo, double hi) {
+    constexpr double kSlack = 1e-9;  // degrees: rounding of the round trip through sin/cos
+    return (x >= lo - kSlack && x <= hi + kSlack) ||
+           (x + 360.0 >= lo - kSlack && x + 360.0 <= hi + kSlack) ||
+           (x - 360.0 >= lo - kSlack && x - 360.0 <= hi + kSlack);
+  };
+  auto box = [&](double a, double b, double c, double e) { return in(th, a, b) && in(ph, c, e); };
+  switch (method) {
+    case CohMethod::kM1:
+      return box(0, 30, 60, 120);
+    case CohMethod::kM2:
+      return box(0, 60, 180, 300) || box(60, 120, 240, 300);
+    case CohMethod::kM3:
+      return box(0, 60, 60, 180);
+    case CohMethod::kM4:
+      return box(60, 120, 0, 120);
+    case CohMethod::kM5:
+      return box(60, 120, 180, 240) || box(120, 180, 180, 300);
+    case CohMethod::kM6:
+      return box(120, 180, 30, 120);
+    case CohMethod::kM7:
+      return box(120, 180, 120, 180);
+    default:
+      return false;
+  }
+}
+
+CohCurve coh_construct(CohMethod method, CohSymmetry symmetry, Point p0, Point p1, Vec2 v0,
+                       Vec2 v1) {
+  check_ends(p0, p1, v0, v1);
+  const LocalData d = local_data(p0, p1, v0, v1);
+  if (method == CohMethod::kM0) symmetry = CohSymmetry::kNone;
+  return realize(method, symmetry, build(method, symmetry, d), Frame{p0, p1 - p0});
+}
+
+CohChoice coh_choose(double theta, double phi) {
+  return choose(LocalData{expi(theta), expi(phi)});
+}
+
+CohCurve coh_curve(Point p0, Point p1, Vec2 v0, Vec2 v1) {
+  check_ends(p0, p1, v0, v1);
+  const LocalData d = local_data(p0, p1, v0, v1);
+  const CohChoice c = choose(d);
+  return realize(c.method, c.symmetry, build(c.method, c.symmetry, d), Frame{p0, p1 - p0});
+}
+
+double coh_min_margin(const CohCurve& curve) {
+  double margin = 1.0;
+  for (int k = 0; k < curve.count; ++k) {
+    const CubicBezier& b = curve.pieces[k];
+    const Vec2 chord = b.p[3] - b.p[0];
+    const double len = std::sqrt(norm2(chord));
+    // The given directions: the control legs times the signs of the coefficients.
+    const Vec2 l0 = b.p[1] - b.p[0], l1 = b.p[3] - b.p[2];
+    const double n0 = std::sqrt(norm2(l0)), n1 = std::sqrt(norm2(l1));
+    if (!(n0 > 0.0 && n1 > 0.0 && len > 0.0)) return -1.0;
+    const double c0 = dot(chord, l0) / (len * n0) * (curve.coefficients[k].a0 > 0.0 ? 1 : -1);
+    const double c1 = dot(chord, l1) / (len * n1) * (curve.coefficients[k].a1 > 0.0 ? 1 : -1);
+    margin = std::min({margin, c0 - kThird, c1 - kThird});
+  }
+  return margin;
+}
+
+}  // namespace fairspline
+
+// ---- spline level ----
+
+namespace fairspline {
+
+namespace {
+
+std::string_view ratio_name(YongChengRatio r) {
+  return r == YongChengRatio::kEqual ? "equal" : "free";
+}
+
+/// The tangent vector at every point: given ones first, then the other method's directions.
+void collect_tangents(const FitInput& input, const YongChengOptions& options, std::size_t n,
+                      std::vector<Vec2>& v) {
+  v.assign(n, Vec2{});
+  std::vector<char> have(n, 0);
+  for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
+    if (input.tangents[i]) {
+      v[i] = *input.tangents[i];
+      have[i] = 1;
+    }
+  }
+  if (input.start_tangent) {
+    v[0] = *input.start_tangent;
+    have[0] = 1;
+  }
+  if (input.end_tangent && !input.closed) {
+    v[n - 1] = *input.end_tangent;
+    have[n - 1] = 1;
+  }
+  const auto missing = std::find(have.begin(), have.end(), 0);
+  if (missing == have.end()) return;
+  const std::size_t first = static_cast<std::size_t>(missing - have.begin());
+  if (options.tangents_from.empty()) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "yong-cheng needs a tangent vector at every point, but point " +
+                    std::to_string(first) +
+                    " has none: give 'tangents' in the input, or set the option "
+                    "tangents_from=<method> (e.g. jaklic-zagar) to take the missing directions "
+                    "from another method",
+                first);
+  }
+  if (options.tangents_from == "yong-cheng") {
+    throw Error(ErrorCode::kBadOption,
+                "tangents_from cannot be yong-cheng itself; name a method that chooses "
+                "directions from points alone (e.g. jaklic-zagar)");
+  }
+  FitResult other;
+  fit_into(options.tangents_from, input, nlohmann::json::object(), ReportLevel::kNone, other);
+  if (other.tangents.size() != n) {
+    throw Error(ErrorCode::kBadOption, "tangents_from=" + options.tangents_from + " returned " +
+                                           std::to_string(other.tangents.size()) +
+                                           " tangents for " + std::to_string(n) +
+                                           " points (did it insert points?)");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!have[i]) v[i] = other.tangents[i];
+  }
+}
+
+struct SpanPieces {
+  CohCurve coh;
+  double h = 0.0;
+};
+
+}  // namespace
+
+void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, ReportLevel level,
+                    FitResult& out) {
+  const std::size_t spans = detail::prepare_input(input, {2, 3, "yong-cheng"}, out);
+  const std::size_t n = out.points.size();
+  for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
+    if (input.kinds[i] == PointKind::kCorner) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "point " + std::to_string(i) +
+                      " is a corner, but yong-cheng builds one G1 curve with one tangent per "
+                      "point; split the input at the corner",
+                  i);
+    }
+  }
+  std::vector<Vec2> v;
+  collect_tangents(input, options, n, v);
+  out.spline.closed = out.closed;
+  out.tangents.resize(n);
+  for (std::size_t i = 0; i < n; ++i) out.tangents[i] = safe_unit(v[i]);
+
+  const bool report = level != ReportLevel::kNone;
+  nlohmann::json span_reports = nlohmann::json::array();
+  std::map<std::string, int> counts;
+  bool all_preserved = true;
+  out.spline.segments.clear();
+  out.spline.segments.reserve(spans);
+  std::uint64_t bad = 0;
+  for (std::size_t i = 0; i < spans; ++i) {
+    const std::size_t j = i + 1 == n ? 0 : i + 1;
+    const Point p0 = out.points[i], p1 = out.points[j];
+    const Vec2 v0 = v[i], v1 = v[j];
+    const double ta = out.knots[i], tb = out.knots[i + 1];
+    CohCurve c;
+    if (options.ratio == YongChengRatio::kEqual) {
+      const double a = ogh_equal_ratio_coefficient(p0, p1, v0, v1, ta, tb);
+      if (!(a > 0.0)) {
+        throw Error(ErrorCode::kInfeasible,
+                    "span " + std::to_string(i) +
+                        ": the equal-ratio coefficient a* is not positive (|V0| cos(theta) + "
+                        "|V1| cos(phi) <= 0), so the curve would reverse the given tangents; "
+                        "use ratio=free",
+                    i);
+      }
+      c.count = 1;
+      c.pieces[0] = hermite_bezier(p0, p1, a * v0, a * v1, ta, tb);
+      c.coefficients[0] = {a, a};
+    } else {
+      c = options.composite ? coh_curve(p0, p1, v0, v1)
+                            : coh_construct(CohMethod::kM0, CohSymmetry::kNone, p0, p1, v0, v1);
+    }
+    // Split [ta, tb] among the pieces in proportion to their chords.
+    std::array<double, 4> cut{ta, tb, tb, tb};
+    if (c.count > 1) {
+      double total = 0.0;
+      std::array<double, 3> len{};
+      for (int k = 0; k < c.count; ++k) {
+        len[k] = detail::safe_norm(c.pieces[k].p[3] - c.pieces[k].p[0]);
+        total += len[k];
+      }
+      double acc = 0.0;
+      for (int k = 0; k < c.count; ++k) {
+        cut[k] = ta + (tb - ta) * (acc / total);
+        acc += len[k];
+      }
+      cut[c.count] = tb;
+    }
+    for (int k = 0; k < c.count; ++k) {
+      Segment s{c.pieces[k], cut[k], cut[k + 1], i};
+      bad |= detail::non_finite_bits(s);
+      out.spline.segments.push_back(s);
+    }
+    all_preserved = all_preserved && c.preserved;
+    if (report) {
+      const std::string name = options.ratio == YongChengRatio::kEqual
+                                   ? std::string("equal-ratio")
+                                   : coh_name(c.method, c.symmetry);
+      ++counts[name];
+      const TangentAngles ang = tangent_angles(p0, p1, v0, v1);
+      nlohmann::json coeffs = nlohmann::json::array();
+      for (int k = 0; k < c.count; ++k) {
+        if (options.ratio == YongChengRatio::kEqual) {
+          coeffs.push_back({c.coefficients[k].a0, c.coefficients[k].a1});
+          continue;
+        }
+        // World coefficients are relative to unit directions on [0, 1]; rescale to the given
+        // vector at a span end and to the piece's parameter interval.
+        const double hk = cut[k + 1] - cut[k];
+        const double r0 = k == 0 ? std::sqrt(norm2(v0)) : 1.0;
+        const double r1 = k + 1 == c.count ? std::sqrt(norm2(v1)) : 1.0;
+        coeffs.push_back({c.coefficients[k].a0 / (hk * r0), c.coefficients[k].a1 / (hk * r1)});
+      }
+      span_reports.push_back({{"construction", name},
+                              {"pieces", c.count},
+                              {"theta_deg", ang.theta / kDeg},
+                              {"phi_deg", ang.phi / kDeg},
+                              {"coefficients", std::move(coeffs)},
+                              {"preserved", c.preserved}});
+    }
+  }
+  if (bad) {
+    for (const Segment& s : out.spline.segments) {
+      if (detail::non_finite_bits(s)) {
+        throw Error(ErrorCode::kNonFinite,
+                    "yong-cheng: span " + std::to_string(s.span) +
+                        " overflows (coordinates too large for double arithmetic)",
+                    s.span);
+      }
+    }
+  }
+  out.method_report = {{"composite", options.composite},
+                       {"ratio", ratio_name(options.ratio)},
+                       {"tangents_from", options.tangents_from}};
+  if (report) {
+    out.method_report["spans"] = std::move(span_reports);
+    out.method_report["constructions"] = counts;
+    out.method_report["all_preserved"] = all_preserved;
+  }
+}
+
+FitResult fit_yong_cheng(const FitInput& input, const YongChengOptions& options,
+                         ReportLevel level) {
+  FitResult result;
+  fit_yong_cheng(input, options, level, result);
+  return result;
+}
+
+}  // namespace fairspline
+
+// ---- registry entry ----
+#include "methods/builtin.hpp"
+
+namespace fairspline::detail {
+
+std::vector<MethodInfo> yong_cheng_methods() {
+  MethodInfo m{
+      "yong-cheng",
+      "Hermite G1 spline through points with given tangent directions: each span is the "
+      "optimized geometric Hermite (OGH) cubic of least strain energy, or a composite of two or "
+      "three OGH pieces (M1-M7 and mirror images) when the angles would give a loop, cusp, fold "
+      "or reversed tangent.",
+      "J.-H. Yong, F. Cheng, Geometric Hermite curves with minimum strain energy, Computer "
+      "Aided Geometric Design 21 (2004), Theorems 2-7",
+      {OptionSpec{"composite",
+                  OptionType::kBoolean,
+                  true,
+                  std::nullopt,
+                  std::nullopt,
+                  {},
+                  "use composite (COH) curves where a single OGH curve would violate the "
+                  "geometric smoothness conditions (6); false keeps one OGH per span and reports "
+                  "spans whose directions are reversed"},
+       OptionSpec{"ratio",
+                  OptionType::kChoice,
+                  "free",
+                  std::nullopt,
+                  std::nullopt,
+                  {"free", "equal"},
+                  "free: independent optimized coefficients a0, a1 (Theorem 2); equal: a0 = a1 "
+                  "(the equal-ratio variant, one piece per span, error if a* <= 0)"},
+       OptionSpec{"tangents_from",
+                  OptionType::kString,
+                  "",
+                  std::nullopt,
+                  std::nullopt,
+                  {},
+                  "registered method that supplies the tangent directions missing from the "
+                  "input (e.g. jaklic-zagar); empty: every point needs a tangent"}},
+      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
+        YongChengOptions opt;
+        opt.composite = o.at("composite").get<bool>();
+        opt.ratio = o.at("ratio").get<std::string>() == "equal" ? YongChengRatio::kEqual
+                                                                : YongChengRatio::kFree;
+        opt.tangents_from = o.at("tangents_from").get<std::string>();
+        fit_yong_cheng(in, opt, level, out);
+      },
+      /*checks_own_output=*/false};
+  return {m};
+}
+
+}  // namespace fairspline::detail
