@@ -49,26 +49,36 @@ inline std::vector<Point> random_walk(std::size_t n, std::uint64_t seed = kDefau
 
 /// A FitInput around a cached random walk of `n` points (generated once per (n, seed), so
 /// that data generation stays outside every timed loop and is shared between benchmarks).
+/// With `tangents`, every point also gets a tangent direction uniform on the circle (for the
+/// Hermite methods, e.g. yong-cheng).
 inline const FitInput& walk_input(std::size_t n, bool closed = false,
                                   double alpha = FitInput::kDefaultAlpha,
-                                  std::uint64_t seed = kDefaultSeed) {
+                                  std::uint64_t seed = kDefaultSeed, bool tangents = false) {
   struct Key {
     std::size_t n;
     bool closed;
     double alpha;
     std::uint64_t seed;
+    bool tangents;
     bool operator<(const Key& o) const {
-      return std::tie(n, closed, alpha, seed) < std::tie(o.n, o.closed, o.alpha, o.seed);
+      return std::tie(n, closed, alpha, seed, tangents) <
+             std::tie(o.n, o.closed, o.alpha, o.seed, o.tangents);
     }
   };
   static std::map<Key, FitInput> cache;
-  const Key key{n, closed, alpha, seed};
+  const Key key{n, closed, alpha, seed, tangents};
   auto it = cache.find(key);
   if (it == cache.end()) {
     FitInput in;
     in.points = random_walk(n, seed);
     in.closed = closed;
     in.alpha = alpha;
+    if (tangents) {
+      std::mt19937_64 rng(seed + 1);
+      std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);
+      in.tangents.reserve(n);
+      for (std::size_t i = 0; i < n; ++i) in.tangents.emplace_back(from_angle(angle(rng)));
+    }
     it = cache.emplace(key, std::move(in)).first;
   }
   return it->second;
@@ -80,9 +90,9 @@ inline const FitInput& walk_input(std::size_t n, bool closed = false,
 /// steady state of a pipeline that fits curve after curve, where the output's memory is
 /// already mapped (a fresh 10^6-point result costs ~150 MB of new pages to zero).
 inline void fit_walk(benchmark::State& state, const std::string& method, bool closed, double alpha,
-                     const nlohmann::json& options, bool reuse) {
+                     const nlohmann::json& options, bool reuse, bool tangents) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));
-  const FitInput& input = walk_input(n, closed, alpha);
+  const FitInput& input = walk_input(n, closed, alpha, kDefaultSeed, tangents);
   try {
     // One untimed call: reports bad input as a skipped benchmark and warms up the allocator.
     (void)fit(method, input, options, ReportLevel::kNone);
@@ -113,17 +123,17 @@ inline void fit_walk(benchmark::State& state, const std::string& method, bool cl
 /// Registers "fit/<method>/<open|closed>/<n>" (fresh result per fit) and
 /// "fit_into/<method>/<open|closed>/<n>" (result reused) for each n in `sizes` (the names
 /// bench/compare_scipy.py filters on; keep the scheme when adding methods). A non-default
-/// alpha adds "/alpha:<value>" before the size.
+/// alpha adds "/alpha:<value>" before the size. `tangents` gives every point a random tangent.
 inline void register_fit(const std::string& method, bool closed,
                          const std::vector<std::int64_t>& sizes,
                          double alpha = FitInput::kDefaultAlpha,
-                         nlohmann::json options = nlohmann::json::object()) {
+                         nlohmann::json options = nlohmann::json::object(), bool tangents = false) {
   for (bool reuse : {false, true}) {
     std::string name = (reuse ? "fit_into/" : "fit/") + method + (closed ? "/closed" : "/open");
     if (alpha != FitInput::kDefaultAlpha) name += "/alpha:" + std::to_string(alpha);
     auto* b = benchmark::RegisterBenchmark(
-        name.c_str(), [method, closed, alpha, options, reuse](benchmark::State& state) {
-          fit_walk(state, method, closed, alpha, options, reuse);
+        name.c_str(), [method, closed, alpha, options, reuse, tangents](benchmark::State& state) {
+          fit_walk(state, method, closed, alpha, options, reuse, tangents);
         });
     for (std::int64_t n : sizes) b->Arg(n);
     b->Unit(benchmark::kMillisecond);

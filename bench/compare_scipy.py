@@ -28,8 +28,13 @@ Prints a table and the ratio fairspline / SciPy, and reports (does not assert) t
 ratio. Exits non-zero only on errors: no fairspline measurement at all, a failing binary,
 bad arguments.
 
+`--benchmark NAME` times other benchmarks of the binary that process --n items per iteration
+(e.g. ogh/segments/1000000, coh/dispatch/1000000 of bench/yong_cheng_bench.cpp): their items
+per second are compared with SciPy's points per second.
+
 Usage: /usr/bin/python3 bench/compare_scipy.py [--cli build/apps/cli/fairspline]
        [--method li-strain] [--n 1000000] [--closed] [--alpha 0.5] [--repeat 5] [--json OUT]
+       [--benchmark NAME ...]
 """
 
 import argparse
@@ -213,6 +218,10 @@ def main(argv=None):
     ap.add_argument("--bench", default=os.path.join(ROOT, "build", "bench", "fairspline_bench"),
                     help="Google Benchmark binary (default build/bench/fairspline_bench)")
     ap.add_argument("--no-bench", action="store_true", help="do not run the benchmark binary")
+    ap.add_argument("--benchmark", action="append", metavar="NAME",
+                    help="time this benchmark of the binary instead of fit/<method>/...; it must "
+                         "process --n items per iteration (e.g. ogh/segments/1000000); "
+                         "repeatable")
     ap.add_argument("--cli", help="fairspline CLI; used when it has a 'bench' subcommand")
     ap.add_argument("--target", type=float, default=10.0,
                     help="ratio fairspline/SciPy to report against (default 10)")
@@ -242,7 +251,8 @@ def main(argv=None):
                 args.bench))
         else:
             # fit/...: a fresh FitResult per fit; fit_into/...: the result's memory reused.
-            for bench_name in (name, "fit_into/" + name[len("fit/"):]):
+            names = args.benchmark or (name, "fit_into/" + name[len("fit/"):])
+            for bench_name in names:
                 res = time_bench_binary(args.bench, bench_name, args.repeat, args.timeout)
                 if res is None:
                     notes.append("{} has no benchmark {} (see --benchmark_list_tests)".format(

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numbers>
+#include <span>
 #include <string>
+#include <utility>
 
 #include "detail/finite.hpp"
 #include "detail/input.hpp"
@@ -22,6 +25,8 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kThird = 1.0 / 3.0;
 const double kCos30 = std::sqrt(3.0) / 2.0;
+const Vec2 kE10{std::cos(10.0 * kDeg), std::sin(10.0 * kDeg)};  // e^{iπ/18}
+const Vec2 kE20{std::cos(20.0 * kDeg), std::sin(20.0 * kDeg)};
 
 // ---- small complex-number helpers on unit vectors (local frame) ----
 inline Vec2 mul(Vec2 a, Vec2 b) {
@@ -106,44 +111,21 @@ struct LocalData {
   Vec2 u1;  // (cos φ, sin φ)
 };
 
+// CohSymmetry's values are bit sets: 1 = T, 2 = R, 3 = RT.
 constexpr bool has_t(CohSymmetry s) {
-  return s == CohSymmetry::kT || s == CohSymmetry::kRT;
+  return (static_cast<unsigned>(s) & 1u) != 0;
 }
 constexpr bool has_r(CohSymmetry s) {
-  return s == CohSymmetry::kR || s == CohSymmetry::kRT;
-}
-constexpr CohSymmetry make_symmetry(bool t, bool r) {
-  return t ? (r ? CohSymmetry::kRT : CohSymmetry::kT) : (r ? CohSymmetry::kR : CohSymmetry::kNone);
+  return (static_cast<unsigned>(s) & 2u) != 0;
 }
 
-/// The symmetry acting on the end conditions (an involution; T and R commute).
-LocalData apply(CohSymmetry s, LocalData d) {
-  if (has_r(s)) d = {conj(d.u1), conj(d.u0)};
-  if (has_t(s)) d = {conj(d.u0), conj(d.u1)};
-  return d;
-}
-
-/// The symmetry acting on a construction: T mirrors about the base line, R mirrors about the
-/// perpendicular bisector x = 1/2 and reverses the order.
-Polygon apply(CohSymmetry s, Polygon p) {
-  if (has_r(s)) {
-    Polygon r;
-    r.count = p.count;
-    for (int k = 0; k <= p.count; ++k) {
-      r.q[k] = {1.0 - p.q[p.count - k].x, p.q[p.count - k].y};
-      r.u[k] = conj(p.u[p.count - k]);
-    }
-    r.q[0] = {0.0, 0.0};
-    r.q[r.count] = {1.0, 0.0};
-    p = r;
-  }
-  if (has_t(s)) {
-    for (int k = 0; k <= p.count; ++k) {
-      p.q[k].y = -p.q[k].y;
-      p.u[k] = conj(p.u[k]);
-    }
-  }
-  return p;
+/// The symmetry acting on the end conditions (an involution; T and R commute), branch-free:
+/// R swaps the ends and conjugates, T conjugates.
+inline LocalData apply(CohSymmetry s, LocalData d) {
+  const bool r = has_r(s);
+  const Vec2 a = r ? d.u1 : d.u0, b = r ? d.u0 : d.u1;
+  const double sy = r != has_t(s) ? -1.0 : 1.0;
+  return {{a.x, sy * a.y}, {b.x, sy * b.y}};
 }
 
 [[noreturn]] void no_joint(const char* method) {
@@ -162,85 +144,124 @@ Point meet(Point a, Vec2 da, Point b, Vec2 db, const char* method) {
   return a + s * da;
 }
 
-Polygon two(Vec2 u0, Point t, Vec2 vt, Vec2 u1) {
-  return {2, {Vec2{0.0, 0.0}, t, Vec2{1.0, 0.0}, Vec2{}}, {u0, vt, u1, Vec2{}}};
+void two(Polygon& p, Vec2 u0, Point t, Vec2 vt, Vec2 u1) {
+  p.count = 2;
+  p.q[0] = {0.0, 0.0};
+  p.q[1] = t;
+  p.q[2] = {1.0, 0.0};
+  p.u[0] = u0;
+  p.u[1] = vt;
+  p.u[2] = u1;
 }
 
-Polygon three(Vec2 u0, Point t0, Vec2 v0, Point t1, Vec2 v1, Vec2 u1) {
-  return {3, {Vec2{0.0, 0.0}, t0, t1, Vec2{1.0, 0.0}}, {u0, v0, v1, u1}};
+void three(Polygon& p, Vec2 u0, Point t0, Vec2 v0, Point t1, Vec2 v1, Vec2 u1) {
+  p.count = 3;
+  p.q[0] = {0.0, 0.0};
+  p.q[1] = t0;
+  p.q[2] = t1;
+  p.q[3] = {1.0, 0.0};
+  p.u[0] = u0;
+  p.u[1] = v0;
+  p.u[2] = v1;
+  p.u[3] = u1;
+}
+
+// Each construction runs in two steps so that a batch can do the trigonometry of all its
+// items in one loop (latency hiding): trig_step() names the angle ϕ = (arg w [+ 2π]) / k whose
+// e^{iϕ} the construction needs, build_post() builds the polygon from the data and r = e^{iϕ}.
+struct TrigStep {
+  Vec2 w{1.0, 0.0};
+  double wrap = -10.0;  ///< add 2π to arg w when it is below this
+  double k = 0.0;       ///< 0: no trigonometry needed
+};
+
+/// P0T's direction e^{iβ} of M2.
+inline Vec2 m2_beta(Vec2 u0) {
+  return u0.x > kE20.x && u0.y < kE20.y ? kE10 : half(u0);
+}
+
+TrigStep trig_step(CohMethod m, const LocalData& d) {
+  switch (m) {
+    case CohMethod::kM2:  // 3ϕ = 2π − φ + β ∈ [70°, 240°]: arg(conj(V1)·e^{iβ}) in [0, 2π)
+      return {mul(conj(d.u1), m2_beta(d.u0)), 0.0, 3.0};
+    case CohMethod::kM3:  // φ/3 with φ ∈ [0, 2π)
+      return {d.u1, 0.0, 3.0};
+    case CohMethod::kM5:  // (2π + θ − φ)/6: θ − φ ∈ [−240°, 0°] or [120°, 180°]
+      return {mul(d.u0, conj(d.u1)), kPi / 3.0, 6.0};
+    case CohMethod::kM6:  // (2π + φ/2 − θ)/5
+      return {mul(half(d.u1), conj(d.u0)), 10.0, 5.0};
+    case CohMethod::kM7:  // (2π + φ − θ)/6
+      return {mul(d.u1, conj(d.u0)), 10.0, 6.0};
+    default:
+      return {};
+  }
+}
+
+inline double step_angle(const TrigStep& t) {
+  double a = std::atan2(t.w.y, t.w.x);
+  if (a < t.wrap) a += 2.0 * kPi;
+  return a / t.k;
 }
 
 // M1, (θ, φ) ∈ [0, π/6] × [π/3, 2π/3]: |TP1| = |P0P1|/3 with ∠(TP1, V1) = φ/2; V_t bisects
 // ∠(P0T, TP1).
-Polygon build_m1(LocalData d) {
+void build_m1(const LocalData& d, Polygon& p) {
   const Vec2 h1 = half(d.u1);  // direction of TP1 (angle φ/2)
   const Point t = Vec2{1.0, 0.0} - kThird * h1;
-  return two(d.u0, t, bisector(unit(t), h1), d.u1);
+  two(p, d.u0, t, bisector(unit(t), h1), d.u1);
 }
 
 // M2, (θ, φ) ∈ [0, π/3] × [π, 5π/3] ∪ [π/3, 2π/3] × [4π/3, 5π/3]. P0T at angle β = θ − φ1
 // (φ1 = θ − π/18 for θ < π/9, else θ/2); ∠(V1, TP1) = ∠(TP1, V_t) = ∠(V_t, P0T) = ϕ. The paper
 // prints ϕ = (2π − φ + φ1)/3, which closes the turn only when φ1 = θ/2; the consistent value is
-// ϕ = (2π − φ + β)/3 (docs).
-Polygon build_m2(LocalData d) {
-  const Vec2 e_beta = d.u0.x > std::cos(20.0 * kDeg) && d.u0.y < std::sin(20.0 * kDeg)
-                          ? Vec2{std::cos(10.0 * kDeg), std::sin(10.0 * kDeg)}
-                          : half(d.u0);
-  const double beta = std::atan2(e_beta.y, e_beta.x);
-  const double phi = (angle_2pi(conj(d.u1)) + beta) / 3.0;
-  const Vec2 r = expi(phi);
+// ϕ = (2π − φ + β)/3 (docs). r = e^{iϕ}.
+void build_m2(const LocalData& d, Vec2 r, Polygon& p) {
   const Vec2 dir_tp1 = mul(d.u1, r);
-  const Point t = meet({0.0, 0.0}, e_beta, {1.0, 0.0}, dir_tp1, "M2");
-  return two(d.u0, t, mul(dir_tp1, r), d.u1);
+  const Point t = meet({0.0, 0.0}, m2_beta(d.u0), {1.0, 0.0}, dir_tp1, "M2");
+  two(p, d.u0, t, mul(dir_tp1, r), d.u1);
 }
 
 // M3, (θ, φ) ∈ [0, π/3] × [π/3, π]. ϕ6 = φ/3, so T1P1 is at α5 = 2φ/3; P0T0 at
 // α1 = (θ − φ/3)/2 − π/18 with T0 on the perpendicular bisector x = 1/2; T0T1 at
 // α3 = 17π/9 (−20°); V_t0, V_t1 bisect the chord directions meeting there (docs: the paper's
-// α2, α4 formulas are garbled; bisectors are what its figure and Theorem 6 need).
-Polygon build_m3(LocalData d) {
-  const double phi_angle = angle_2pi(d.u1);
-  const double theta = std::atan2(d.u0.y, d.u0.x);
-  const Vec2 e5 = expi(2.0 * phi_angle / 3.0);
-  const Vec2 e1 = expi((theta - phi_angle / 3.0) / 2.0 - 10.0 * kDeg);
-  const Vec2 e3{std::cos(20.0 * kDeg), -std::sin(20.0 * kDeg)};
-  const Point t0{0.5, 0.5 * e1.y / e1.x};
+// α2, α4 formulas are garbled; bisectors are what its figure and Theorem 6 need). r = e^{iφ/3}.
+void build_m3(const LocalData& d, Vec2 r, Polygon& p) {
+  const Vec2 e5 = mul(d.u1, conj(r));                         // e^{i2φ/3}
+  const Vec2 e1 = mul(half(mul(d.u0, conj(r))), conj(kE10));  // e^{i((θ − φ/3)/2 − 10°)}
+  const Vec2 e3 = mul(conj(kE10), conj(kE10));                // e^{−i20°}
   if (!(e1.x > 0.0)) no_joint("M3");
+  const Point t0{0.5, 0.5 * e1.y / e1.x};
   const Point t1 = meet(t0, e3, {1.0, 0.0}, e5, "M3");
-  return three(d.u0, t0, bisector(e1, e3), t1, bisector(e3, e5), d.u1);
+  three(p, d.u0, t0, bisector(e1, e3), t1, bisector(e3, e5), d.u1);
 }
 
 // M4, (θ, φ) ∈ [π/3, 2π/3] × [0, 2π/3]: P0T0 at θ/2 with length 1/3, T1P1 at φ/2 with length
 // 1/6; V_t0, V_t1 bisect the chord directions.
-Polygon build_m4(LocalData d) {
+void build_m4(const LocalData& d, Polygon& p) {
   const Vec2 h0 = half(d.u0), h1 = half(d.u1);
   const Point t0 = kThird * h0;
   const Point t1 = Vec2{1.0, 0.0} - (1.0 / 6.0) * h1;
   const Vec2 c = unit(t1 - t0);
-  return three(d.u0, t0, bisector(h0, c), t1, bisector(c, h1), d.u1);
+  three(p, d.u0, t0, bisector(h0, c), t1, bisector(c, h1), d.u1);
 }
 
 /// The three chord directions and two joint directions of an equal-angle construction
-/// turning by ϕ per end angle (r = e^{±iϕ}) starting from u0.
+/// turning by ϕ per end angle (r = e^{±iϕ}) starting from u0 (powers of r computed in
+/// parallel rather than as a chain of products).
 struct Fan {
   Vec2 d1, v0, d2, v1, d3;
 };
 Fan fan(Vec2 u0, Vec2 r) {
-  Fan f;
-  f.d1 = mul(u0, r);
-  f.v0 = mul(f.d1, r);
-  f.d2 = mul(f.v0, r);
-  f.v1 = mul(f.d2, r);
-  f.d3 = mul(f.v1, r);
-  return f;
+  const Vec2 r2 = mul(r, r);
+  const Vec2 r3 = mul(r2, r), r4 = mul(r2, r2);
+  const Vec2 r5 = mul(r4, r);
+  return {mul(u0, r), mul(u0, r2), mul(u0, r3), mul(u0, r4), mul(u0, r5)};
 }
 
 // M5, (θ, φ) ∈ [π/3, 2π/3] × [π, 4π/3] ∪ [2π/3, π] × [π, 5π/3]: six equal clockwise end angles
-// ϕ = (2π + θ − φ)/6 and T0T1 tangent to the circle on P0P1 as diameter.
-Polygon build_m5(LocalData d) {
-  double total = std::atan2(cross(d.u1, d.u0), dot(d.u1, d.u0));  // θ − φ modulo 2π
-  if (total < kPi / 3.0) total += 2.0 * kPi;
-  const Fan f = fan(d.u0, conj(expi(total / 6.0)));
+// ϕ = (2π + θ − φ)/6 and T0T1 tangent to the circle on P0P1 as diameter. r = e^{iϕ}.
+void build_m5(const LocalData& d, Vec2 r, Polygon& p) {
+  const Fan f = fan(d.u0, conj(r));
   const Vec2 n = perp(f.d2);  // the arch lies on the left of T0T1
   const Point m{0.5, 0.0};
   const double s = (0.5 + dot(n, m)) / dot(n, f.d1);
@@ -248,102 +269,146 @@ Polygon build_m5(LocalData d) {
   if (!(s > 0.0 && u > 0.0 && std::isfinite(s) && std::isfinite(u))) no_joint("M5");
   const Point t0 = s * f.d1, t1 = Vec2{1.0, 0.0} - u * f.d3;
   if (!(dot(t1 - t0, f.d2) > 0.0)) no_joint("M5");
-  return three(d.u0, t0, f.v0, t1, f.v1, d.u1);
+  three(p, d.u0, t0, f.v0, t1, f.v1, d.u1);
 }
 
 // M6, (θ, φ) ∈ [2π/3, π] × [π/6, 2π/3]: T1P1 at α5 = φ/2, five equal counter-clockwise end
-// angles ϕ = (2π + α5 − θ)/5, |P0T0| = |P0P1|/2.
-Polygon build_m6(LocalData d) {
-  const Vec2 h1 = half(d.u1);
-  const double total = 2.0 * kPi + std::atan2(cross(d.u0, h1), dot(d.u0, h1));
-  const Fan f = fan(d.u0, expi(total / 5.0));
+// angles ϕ = (2π + α5 − θ)/5, |P0T0| = |P0P1|/2. r = e^{iϕ}.
+void build_m6(const LocalData& d, Vec2 r, Polygon& p) {
+  const Fan f = fan(d.u0, r);
   const Point t0 = 0.5 * f.d1;
-  const Point t1 = meet(t0, f.d2, {1.0, 0.0}, h1, "M6");
-  return three(d.u0, t0, f.v0, t1, f.v1, d.u1);
+  const Point t1 = meet(t0, f.d2, {1.0, 0.0}, half(d.u1), "M6");
+  three(p, d.u0, t0, f.v0, t1, f.v1, d.u1);
 }
 
 // M7, (θ, φ) ∈ [2π/3, π]²: six equal counter-clockwise end angles ϕ = (2π + φ − θ)/6,
-// |P0T0| = |P0P1|/2.
-Polygon build_m7(LocalData d) {
-  const double total = 2.0 * kPi + std::atan2(cross(d.u0, d.u1), dot(d.u0, d.u1));
-  const Fan f = fan(d.u0, expi(total / 6.0));
+// |P0T0| = |P0P1|/2. r = e^{iϕ}.
+void build_m7(const LocalData& d, Vec2 r, Polygon& p) {
+  const Fan f = fan(d.u0, r);
   const Point t0 = 0.5 * f.d1;
   const Point t1 = meet(t0, f.d2, {1.0, 0.0}, f.d3, "M7");
-  return three(d.u0, t0, f.v0, t1, f.v1, d.u1);
+  three(p, d.u0, t0, f.v0, t1, f.v1, d.u1);
 }
 
-Polygon build_base(CohMethod m, LocalData d) {
+/// The base construction M_m on (base-frame) data d, given r = e^{iϕ} from trig_step.
+void build_post(CohMethod m, const LocalData& d, Vec2 r, Polygon& p) {
   switch (m) {
     case CohMethod::kM0:
-      return {1, {Vec2{0.0, 0.0}, Vec2{1.0, 0.0}, Vec2{}, Vec2{}}, {d.u0, d.u1, Vec2{}, Vec2{}}};
+      p.count = 1;
+      p.q[0] = {0.0, 0.0};
+      p.q[1] = {1.0, 0.0};
+      p.u[0] = d.u0;
+      p.u[1] = d.u1;
+      return;
     case CohMethod::kM1:
-      return build_m1(d);
+      return build_m1(d, p);
     case CohMethod::kM2:
-      return build_m2(d);
+      return build_m2(d, r, p);
     case CohMethod::kM3:
-      return build_m3(d);
+      return build_m3(d, r, p);
     case CohMethod::kM4:
-      return build_m4(d);
+      return build_m4(d, p);
     case CohMethod::kM5:
-      return build_m5(d);
+      return build_m5(d, r, p);
     case CohMethod::kM6:
-      return build_m6(d);
+      return build_m6(d, r, p);
     case CohMethod::kM7:
-      return build_m7(d);
+      return build_m7(d, r, p);
   }
-  return {};
 }
 
-/// M_i^s for local end data: build M_i on s(data) and map the construction back by s.
-Polygon build(CohMethod m, CohSymmetry s, LocalData d) {
-  Polygon p = apply(s, build_base(m, apply(s, d)));
-  // The end directions are the given ones exactly (sign flips are exact; copy regardless).
-  p.u[0] = d.u0;
-  p.u[p.count] = d.u1;
-  return p;
+/// The symmetry acting on a construction in place: T mirrors about the base line, R mirrors
+/// about the perpendicular bisector x = 1/2 and reverses the order.
+void apply_in_place(CohSymmetry s, Polygon& p) {
+  const int n = p.count;
+  if (has_r(s)) {
+    for (int k = 0; 2 * k < n; ++k) {
+      std::swap(p.q[k], p.q[n - k]);
+      std::swap(p.u[k], p.u[n - k]);
+    }
+    for (int k = 0; k <= n; ++k) {
+      p.q[k].x = 1.0 - p.q[k].x;
+      p.u[k] = conj(p.u[k]);
+    }
+  }
+  if (has_t(s)) {
+    for (int k = 0; k <= n; ++k) {
+      p.q[k].y = -p.q[k].y;
+      p.u[k] = conj(p.u[k]);
+    }
+  }
+  p.q[0] = {0.0, 0.0};
+  p.q[n] = {1.0, 0.0};
 }
 
 /// The canonical image (Section 4's symmetries as a Klein four-group acting on (θ, φ)):
-/// returns g with g(data) in D = {0 ≤ θ ≤ π, |φ| ≤ θ}.
-CohSymmetry canonical(LocalData d) {
-  if (d.u0.x <= d.u1.x) return d.u0.y >= 0.0 ? CohSymmetry::kNone : CohSymmetry::kT;  // |θ| ≥ |φ|
-  return d.u1.y >= 0.0 ? CohSymmetry::kRT : CohSymmetry::kR;
+/// the symmetry g with g(data) in D = {0 ≤ θ ≤ π, |φ| ≤ θ}. Branch-free: random data would
+/// mispredict every branch here.
+inline CohSymmetry canonical(LocalData d) {
+  const unsigned swap = d.u0.x > d.u1.x;  // |φ| > |θ|: R or RT
+  const unsigned t = swap ? unsigned(d.u1.y >= 0.0) : unsigned(d.u0.y < 0.0);
+  return static_cast<CohSymmetry>(t | (swap << 1));
 }
 
-/// The table on D (angles in degrees, θ ∈ [0, 180], φ ∈ [−θ, θ]); fewest pieces first. The
-/// regions are closed: a threshold on a cosine or sine gives way by kClosed (far below any
+/// The tests of the table on D, one bit each (angles in degrees, θ ∈ [0, 180], φ ∈ [−θ, θ]).
+/// The regions are closed: a threshold on a cosine or sine gives way by kClosed (far below any
 /// construction's margin) to the construction with fewer pieces, so that rounding of angles
 /// that lie on a region's edge does not cost a piece. M0 keeps (6) strict.
-CohChoice choose_canonical(LocalData c) {
+enum DecisionBit : unsigned {
+  kSmooth = 1u << 0,      // cos θ > 1/3: (6), M0
+  kSmallNeg = 1u << 1,    // φ ∈ [−60, 0]
+  kUpTo120 = 1u << 2,     // θ ≤ 120
+  kNegative = 1u << 3,    // φ < 0
+  kUpTo30 = 1u << 4,      // φ ≤ 30 (closed)
+  kThetaPi = 1u << 5,     // θ = π and φ ≤ 60
+  kBelow30 = 1u << 6,     // φ < 30 (open)
+  kUpTo120Phi = 1u << 7,  // φ ≤ 120
+};
+
+inline unsigned decision_bits(LocalData c) {
   constexpr double kClosed = 1e-12;
   const double c0 = c.u0.x, s0 = c.u0.y, c1 = c.u1.x, s1 = c.u1.y;
-  if (c0 > kThird) return {CohMethod::kM0, CohSymmetry::kNone};  // (6)
-  if (s1 <= kClosed && c1 >= 0.5 - kClosed)
-    return {CohMethod::kM2, CohSymmetry::kR};                               // φ ∈ [−60, 0]
-  if (c0 >= -0.5 - kClosed) {                                               // θ ≤ 120
-    if (s1 < 0.0) return {CohMethod::kM2, CohSymmetry::kNone};              // φ < −60
-    if (c1 >= kCos30 - kClosed) return {CohMethod::kM1, CohSymmetry::kRT};  // φ ∈ (0, 30]
-    return {CohMethod::kM4, CohSymmetry::kNone};                            // φ ∈ (30, θ]
-  }
-  if (s1 < 0.0) return {CohMethod::kM5, CohSymmetry::kNone};  // φ < −60
-  // θ = π: M2^RT's region [π, 5π/3] × [0, π/3] meets D on this line only.
-  if (s0 <= kClosed && c1 >= 0.5 - kClosed)
-    return {CohMethod::kM2, CohSymmetry::kRT};                  // φ ∈ (0, 60]
-  if (c1 > kCos30) return {CohMethod::kM3, CohSymmetry::kRT};   // φ ∈ (0, 30)
-  if (c1 >= -0.5) return {CohMethod::kM6, CohSymmetry::kNone};  // φ ∈ [30, 120]
-  return {CohMethod::kM7, CohSymmetry::kNone};                  // φ ∈ (120, θ]
+  const unsigned up_to_60 = c1 >= 0.5 - kClosed;
+  return unsigned(c0 > kThird) | (unsigned(s1 <= kClosed) & up_to_60) << 1 |
+         unsigned(c0 >= -0.5 - kClosed) << 2 | unsigned(s1 < 0.0) << 3 |
+         unsigned(c1 >= kCos30 - kClosed) << 4 | (unsigned(s0 <= kClosed) & up_to_60) << 5 |
+         unsigned(c1 > kCos30) << 6 | unsigned(c1 >= -0.5) << 7;
 }
 
-constexpr CohSymmetry compose(CohSymmetry a, CohSymmetry b) {
-  return make_symmetry(has_t(a) != has_t(b), has_r(a) != has_r(b));
+/// The table on D, fewest pieces first, as a function of the decision bits.
+constexpr CohChoice decide(unsigned b) {
+  using M = CohMethod;
+  using S = CohSymmetry;
+  if (b & kSmooth) return {M::kM0, S::kNone};      // (6)
+  if (b & kSmallNeg) return {M::kM2, S::kR};       // φ ∈ [−60, 0]
+  if (b & kUpTo120) {                              // θ ≤ 120
+    if (b & kNegative) return {M::kM2, S::kNone};  // φ < −60
+    if (b & kUpTo30) return {M::kM1, S::kRT};      // φ ∈ (0, 30]
+    return {M::kM4, S::kNone};                     // φ ∈ (30, θ]
+  }
+  if (b & kNegative) return {M::kM5, S::kNone};  // φ < −60
+  // θ = π: M2^RT's region [π, 5π/3] × [0, π/3] meets D on this line only.
+  if (b & kThetaPi) return {M::kM2, S::kRT};       // φ ∈ (0, 60]
+  if (b & kBelow30) return {M::kM3, S::kRT};       // φ ∈ (0, 30)
+  if (b & kUpTo120Phi) return {M::kM6, S::kNone};  // φ ∈ [30, 120]
+  return {M::kM7, S::kNone};                       // φ ∈ (120, θ]
 }
+
+constexpr std::array<CohChoice, 256> kDecisions = [] {
+  std::array<CohChoice, 256> t{};
+  for (unsigned b = 0; b < 256; ++b) t[b] = decide(b);
+  return t;
+}();
 
 CohChoice choose(LocalData d) {
   const CohSymmetry g = canonical(d);
-  const CohChoice base = choose_canonical(apply(g, d));
-  if (base.method == CohMethod::kM0) return base;
-  // Data d = g(c); M_i^h applies at c, so M_i^(h∘g) applies at d.
-  return {base.method, compose(base.symmetry, g)};
+  const CohChoice base = kDecisions[decision_bits(apply(g, d))];
+  // Data d = g(c); M_i^h applies at c, so M_i^(h∘g) applies at d (the group is Z2 × Z2: XOR).
+  // M0 is its own mirror image.
+  const unsigned keep = base.method == CohMethod::kM0 ? 0u : 3u;
+  return {base.method,
+          static_cast<CohSymmetry>(
+              (static_cast<unsigned>(base.symmetry) ^ static_cast<unsigned>(g)) & keep)};
 }
 
 /// World frame of a span: X = p0 + x·d + y·perp(d).
@@ -355,17 +420,24 @@ struct Frame {
 };
 
 LocalData local_data(Point p0, Point p1, Vec2 v0, Vec2 v1) {
-  const Vec2 d = safe_unit(p1 - p0);
-  const Vec2 w0 = safe_unit(v0), w1 = safe_unit(v1);
-  return {unit(Vec2{dot(d, w0), cross(d, w0)}), unit(Vec2{dot(d, w1), cross(d, w1)})};
+  // (d·v, d×v) is v in the chord's frame scaled by |d||v|; normalizing it costs one square
+  // root. Its squared length is |d|²|v|², so rescale first when that leaves double's range.
+  const Vec2 d = p1 - p0;
+  const Vec2 w0{dot(d, v0), cross(d, v0)}, w1{dot(d, v1), cross(d, v1)};
+  const double n0 = norm2(w0), n1 = norm2(w1);
+  if (n0 >= 0x1p-1000 && n0 <= 0x1p1000 && n1 >= 0x1p-1000 && n1 <= 0x1p1000) {
+    return {w0 / std::sqrt(n0), w1 / std::sqrt(n1)};
+  }
+  const Vec2 e = safe_unit(d), e0 = safe_unit(v0), e1 = safe_unit(v1);
+  return {unit(Vec2{dot(e, e0), cross(e, e0)}), unit(Vec2{dot(e, e1), cross(e, e1)})};
 }
 
-/// Pieces of a construction in world coordinates.
-CohCurve realize(CohMethod m, CohSymmetry s, const Polygon& p, const Frame& f) {
-  CohCurve out;
-  out.method = m;
-  out.symmetry = s;
+/// Pieces of a construction in world coordinates, written into `out`.
+void realize(CohChoice c, const Polygon& p, const Frame& f, CohCurve& out) {
+  out.method = c.method;
+  out.symmetry = c.symmetry;
   out.count = p.count;
+  out.preserved = true;
   const double len = std::sqrt(norm2(f.d));
   for (int k = 0; k < p.count; ++k) {
     const Vec2 q = p.q[k + 1] - p.q[k];
@@ -378,33 +450,109 @@ CohCurve realize(CohMethod m, CohSymmetry s, const Polygon& p, const Frame& f) {
     out.coefficients[k] = {mk.a0 * len, mk.a1 * len};
     out.preserved = out.preserved && mk.a0 > 0.0 && mk.a1 > 0.0;
   }
-  return out;
 }
 
-void check_ends(Point p0, Point p1, Vec2 v0, Vec2 v1) {
-  if (!is_finite(p0) || !is_finite(p1)) throw Error(ErrorCode::kNonFinite, "a point is not finite");
-  if (detail::coincident(p0, p1)) {
-    throw Error(ErrorCode::kRepeatedPoint, "the two end points coincide");
+void check_ends(const HermiteEnds& e, std::size_t index) {
+  const bool finite = is_finite(e.p0) && is_finite(e.p1) && is_finite(e.v0) && is_finite(e.v1);
+  if (finite && (e.v0.x != 0.0 || e.v0.y != 0.0) && (e.v1.x != 0.0 || e.v1.y != 0.0) &&
+      !detail::coincident(e.p0, e.p1)) {
+    return;
   }
-  check_vector(v0, "V0");
-  check_vector(v1, "V1");
+  if (!is_finite(e.p0) || !is_finite(e.p1)) {
+    throw Error(ErrorCode::kNonFinite, "an end point is not finite", index);
+  }
+  if (detail::coincident(e.p0, e.p1)) {
+    throw Error(ErrorCode::kRepeatedPoint, "the two end points coincide", index);
+  }
+  for (const auto& [v, name] : {std::pair{e.v0, "V0"}, std::pair{e.v1, "V1"}}) {
+    if (!is_finite(v)) {
+      throw Error(ErrorCode::kNonFinite, std::string(name) + " is not finite", index);
+    }
+    if (v.x == 0.0 && v.y == 0.0) {
+      throw Error(ErrorCode::kInvalidArgument, std::string(name) + " is the zero vector", index);
+    }
+  }
+}
+
+/// Scratch of one item of a batch.
+struct Work {
+  LocalData d;  // local end data
+  LocalData b;  // the base method's data s(d)
+  CohChoice c;
+  Vec2 r{1.0, 0.0};
+  Polygon p;
+};
+
+constexpr std::size_t kBlock = 32;
+
+/// 0..31: the construction's method and symmetry.
+inline unsigned key(CohChoice c) {
+  return static_cast<unsigned>(c.method) * 4u + static_cast<unsigned>(c.symmetry);
+}
+
+/// out[i] = M_c^s for ends[i], i < n <= kBlock, with (M, s) = pick(local data). The work runs
+/// stage by stage over the block, so that the long dependency chains of different items
+/// (square roots, divisions, atan2, sincos) overlap. Errors carry index_base + i.
+template <std::size_t kCap = kBlock, typename Pick>
+[[gnu::flatten]] void construct_block(const HermiteEnds* ends, std::size_t n,
+                                      std::size_t index_base, Pick&& pick, CohCurve* out) {
+  std::array<Work, kCap> w;
+  for (std::size_t i = 0; i < n; ++i) {
+    check_ends(ends[i], index_base + i);
+    Work& x = w[i];
+    x.d = local_data(ends[i].p0, ends[i].p1, ends[i].v0, ends[i].v1);
+    x.c = pick(x.d);
+    if (x.c.method == CohMethod::kM0) x.c.symmetry = CohSymmetry::kNone;
+    x.b = apply(x.c.symmetry, x.d);
+  }
+  // Visit the items grouped by construction (a counting sort on method and symmetry): the
+  // per-construction branches below then run in predictable streaks.
+  std::array<std::uint8_t, kCap> order;
+  {
+    std::array<std::uint8_t, 33> start{};
+    for (std::size_t i = 0; i < n; ++i) ++start[key(w[i].c) + 1];
+    for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    for (std::size_t i = 0; i < n; ++i) order[start[key(w[i].c)]++] = static_cast<std::uint8_t>(i);
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    Work& x = w[order[j]];
+    const TrigStep t = trig_step(x.c.method, x.b);
+    if (t.k != 0.0) x.r = expi(step_angle(t));
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t i = order[j];
+    Work& x = w[i];
+    build_post(x.c.method, x.b, x.r, x.p);
+    apply_in_place(x.c.symmetry, x.p);
+    // The end directions are the given ones exactly (sign flips are exact; copy regardless).
+    x.p.u[0] = x.d.u0;
+    x.p.u[x.p.count] = x.d.u1;
+    realize(x.c, x.p, Frame{ends[i].p0, ends[i].p1 - ends[i].p0}, out[i]);
+  }
 }
 
 }  // namespace
 
 // ---- OGH ----
 
-OghCoefficients ogh_coefficients(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
+namespace detail {
+
+OghCoefficients ogh_coefficients_slow(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
   check_vector(v0, "V0");
   check_vector(v1, "V1");
   check_interval(t0, t1);
-  const Vec2 d = p1 - p0;
-  const double vv = dot(v0, v1), v00 = norm2(v0), v11 = norm2(v1);
-  const double den = (4.0 * v00 * v11 - vv * vv) * (t1 - t0);
-  const double a0 = (6.0 * dot(d, v0) * v11 - 3.0 * dot(d, v1) * vv) / den;
-  const double a1 = (6.0 * dot(d, v1) * v00 - 3.0 * dot(d, v0) * vv) / den;
+  // Unit directions (no under/overflow of the squared lengths); a_k scales as 1/|V_k|.
+  const double m0 = std::max(std::abs(v0.x), std::abs(v0.y));
+  const double m1 = std::max(std::abs(v1.x), std::abs(v1.y));
+  const Vec2 w0 = v0 / m0, w1 = v1 / m1;
+  const double n0 = std::sqrt(norm2(w0)), n1 = std::sqrt(norm2(w1));
+  const OghCoefficients u = ogh_magnitudes(p1 - p0, w0 / n0, w1 / n1);
+  const double h = t1 - t0;
+  const double a0 = u.a0 / h / n0 / m0, a1 = u.a1 / h / n1 / m1;
   return {finite_or_throw(a0, "a0*"), finite_or_throw(a1, "a1*")};
 }
+
+}  // namespace detail
 
 double ogh_equal_ratio_coefficient(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
   check_vector(v0, "V0");
@@ -413,16 +561,6 @@ double ogh_equal_ratio_coefficient(Point p0, Point p1, Vec2 v0, Vec2 v1, double 
   const double a =
       3.0 * dot(p1 - p0, v0 + v1) / (2.0 * (norm2(v0) + dot(v0, v1) + norm2(v1)) * (t1 - t0));
   return finite_or_throw(a, "a*");
-}
-
-CubicBezier hermite_bezier(Point p0, Point p1, Vec2 w0, Vec2 w1, double t0, double t1) {
-  const double h = (t1 - t0) / 3.0;
-  return {{p0, p0 + h * w0, p1 - h * w1, p1}};
-}
-
-CubicBezier ogh_segment(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1) {
-  const OghCoefficients a = ogh_coefficients(p0, p1, v0, v1, t0, t1);
-  return hermite_bezier(p0, p1, a.a0 * v0, a.a1 * v1, t0, t1);
 }
 
 double hermite_strain_energy(Point p0, Point p1, Vec2 w0, Vec2 w1, double t0, double t1) {
@@ -524,10 +662,15 @@ bool coh_applicable(CohMethod method, CohSymmetry symmetry, double theta, double
 
 CohCurve coh_construct(CohMethod method, CohSymmetry symmetry, Point p0, Point p1, Vec2 v0,
                        Vec2 v1) {
-  check_ends(p0, p1, v0, v1);
-  const LocalData d = local_data(p0, p1, v0, v1);
-  if (method == CohMethod::kM0) symmetry = CohSymmetry::kNone;
-  return realize(method, symmetry, build(method, symmetry, d), Frame{p0, p1 - p0});
+  const HermiteEnds e{p0, p1, v0, v1};
+  CohCurve out;
+  construct_block<1>(
+      &e, 1, 0,
+      [&](const LocalData&) {
+        return CohChoice{method, symmetry};
+      },
+      &out);
+  return out;
 }
 
 CohChoice coh_choose(double theta, double phi) {
@@ -535,10 +678,20 @@ CohChoice coh_choose(double theta, double phi) {
 }
 
 CohCurve coh_curve(Point p0, Point p1, Vec2 v0, Vec2 v1) {
-  check_ends(p0, p1, v0, v1);
-  const LocalData d = local_data(p0, p1, v0, v1);
-  const CohChoice c = choose(d);
-  return realize(c.method, c.symmetry, build(c.method, c.symmetry, d), Frame{p0, p1 - p0});
+  const HermiteEnds e{p0, p1, v0, v1};
+  CohCurve out;
+  construct_block<1>(&e, 1, 0, choose, &out);
+  return out;
+}
+
+void coh_curves(std::span<const HermiteEnds> ends, std::span<CohCurve> out) {
+  if (out.size() < ends.size()) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "coh_curves: the output span is shorter than the input");
+  }
+  for (std::size_t i = 0; i < ends.size(); i += kBlock) {
+    construct_block(ends.data() + i, std::min(kBlock, ends.size() - i), i, choose, out.data() + i);
+  }
 }
 
 double coh_min_margin(const CohCurve& curve) {
@@ -652,12 +805,37 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
   out.spline.segments.clear();
   out.spline.segments.reserve(spans);
   std::uint64_t bad = 0;
+  // Composite spans are built a chunk at a time by the batch dispatcher (coh_curves).
+  constexpr std::size_t kChunk = 256;
+  std::array<HermiteEnds, kChunk> chunk_ends;
+  std::vector<CohCurve> chunk(options.ratio == YongChengRatio::kFree ? std::min(kChunk, spans) : 0);
   for (std::size_t i = 0; i < spans; ++i) {
     const std::size_t j = i + 1 == n ? 0 : i + 1;
     const Point p0 = out.points[i], p1 = out.points[j];
     const Vec2 v0 = v[i], v1 = v[j];
     const double ta = out.knots[i], tb = out.knots[i + 1];
-    CohCurve c;
+    if (options.ratio == YongChengRatio::kFree && i % kChunk == 0) {
+      const std::size_t m = std::min(kChunk, spans - i);
+      for (std::size_t k = 0; k < m; ++k) {
+        const std::size_t a = i + k, b = a + 1 == n ? 0 : a + 1;
+        chunk_ends[k] = {out.points[a], out.points[b], v[a], v[b]};
+      }
+      try {
+        if (options.composite) {
+          coh_curves({chunk_ends.data(), m}, chunk);
+        } else {
+          for (std::size_t k = 0; k < m; ++k) {
+            const HermiteEnds& e = chunk_ends[k];
+            chunk[k] = coh_construct(CohMethod::kM0, CohSymmetry::kNone, e.p0, e.p1, e.v0, e.v1);
+          }
+        }
+      } catch (const Error& e) {
+        // coh_curves numbers the spans of the chunk; name the span of the curve.
+        const std::size_t span = i + e.index().value_or(0);
+        throw Error(e.code(), "yong-cheng: span " + std::to_string(span) + ": " + e.what(), span);
+      }
+    }
+    CohCurve equal;
     if (options.ratio == YongChengRatio::kEqual) {
       const double a = ogh_equal_ratio_coefficient(p0, p1, v0, v1, ta, tb);
       if (!(a > 0.0)) {
@@ -668,13 +846,11 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
                         "use ratio=free",
                     i);
       }
-      c.count = 1;
-      c.pieces[0] = hermite_bezier(p0, p1, a * v0, a * v1, ta, tb);
-      c.coefficients[0] = {a, a};
-    } else {
-      c = options.composite ? coh_curve(p0, p1, v0, v1)
-                            : coh_construct(CohMethod::kM0, CohSymmetry::kNone, p0, p1, v0, v1);
+      equal.count = 1;
+      equal.pieces[0] = hermite_bezier(p0, p1, a * v0, a * v1, ta, tb);
+      equal.coefficients[0] = {a, a};
     }
+    const CohCurve& c = options.ratio == YongChengRatio::kFree ? chunk[i % kChunk] : equal;
     // Split [ta, tb] among the pieces in proportion to their chords.
     std::array<double, 4> cut{ta, tb, tb, tb};
     if (c.count > 1) {

@@ -393,6 +393,47 @@ TEST(YongChengCoh, ChoiceNamesAndCounts) {
   EXPECT_EQ(coh_piece_count(coh_choose(10 * kDeg, -20 * kDeg).method), 1);
 }
 
+TEST(YongChengCoh, BatchEqualsSingleCallsBitForBit) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> ang(0, 2 * kPi), u(-5, 5), len(0.1, 3);
+  std::vector<HermiteEnds> ends(1000);
+  for (HermiteEnds& e : ends) {
+    e.p0 = {u(rng), u(rng)};
+    e.p1 = e.p0 + len(rng) * from_angle(ang(rng));
+    e.v0 = len(rng) * from_angle(ang(rng));
+    e.v1 = len(rng) * from_angle(ang(rng));
+  }
+  std::vector<CohCurve> out(ends.size());
+  coh_curves(ends, out);
+  for (std::size_t i = 0; i < ends.size(); ++i) {
+    const CohCurve one = coh_curve(ends[i].p0, ends[i].p1, ends[i].v0, ends[i].v1);
+    ASSERT_EQ(out[i].count, one.count);
+    ASSERT_EQ(out[i].method, one.method);
+    ASSERT_EQ(out[i].symmetry, one.symmetry);
+    for (int k = 0; k < one.count; ++k) {
+      for (int j = 0; j < 4; ++j) ASSERT_EQ(out[i].pieces[k].p[j], one.pieces[k].p[j]);
+    }
+  }
+  // An error names the offending span of the batch.
+  ends[77].v1 = {0, 0};
+  const Error e = testing::expect_error([&] { coh_curves(ends, out); });
+  EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(e.index(), 77u);
+  std::vector<CohCurve> shorter(3);
+  expect_error(ErrorCode::kInvalidArgument, [&] { coh_curves(ends, shorter); });
+}
+
+TEST(YongChengOgh, TinyAndHugeTangentsUseTheRescaledPath) {
+  const Point p0{0, 0}, p1{2, 1};
+  const OghCoefficients ref = ogh_coefficients(p0, p1, {1, 2}, {3, -1});
+  for (double s : {1e-200, 1e-160, 1e160, 1e200}) {
+    const OghCoefficients a = ogh_coefficients(p0, p1, s * Vec2{1, 2}, s * Vec2{3, -1});
+    EXPECT_NEAR(a.a0 * s, ref.a0, 1e-14 * std::abs(ref.a0)) << s;
+    EXPECT_NEAR(a.a1 * s, ref.a1, 1e-14 * std::abs(ref.a1)) << s;
+  }
+  expect_error(ErrorCode::kNonFinite, [&] { ogh_coefficients(p0, p1, {1e-310, 0}, {0, 1e-310}); });
+}
+
 TEST(YongChengCoh, BadEndDataThrows) {
   expect_error(ErrorCode::kRepeatedPoint, [] { coh_curve({1, 1}, {1, 1}, {1, 0}, {1, 0}); });
   expect_error(ErrorCode::kInvalidArgument, [] { coh_curve({0, 0}, {1, 1}, {0, 0}, {1, 0}); });

@@ -14,7 +14,9 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -32,11 +34,30 @@ struct OghCoefficients {
   double a1 = 0.0;
 };
 
+namespace detail {
+/// Out-of-line path of ogh_coefficients: rescales tangents whose squared lengths under- or
+/// overflow, and throws for zero or non-finite tangents, a bad interval or an overflowing result.
+OghCoefficients ogh_coefficients_slow(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0, double t1);
+}  // namespace detail
+
 /// Theorem 2, (4) for general (non-unit, non-zero) V0, V1 and parameter interval [t0, t1].
 /// The 2x2 system is always solvable (its determinant 4|V0|²|V1|² − (V0·V1)² ≥ 3|V0|²|V1|²).
 /// Throws Error(kInvalidArgument) for a zero tangent or t1 <= t0, kNonFinite on overflow.
-OghCoefficients ogh_coefficients(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0 = 0.0,
-                                 double t1 = 1.0);
+/// Inline: it is the inner loop of every OGH-based construction.
+inline OghCoefficients ogh_coefficients(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0 = 0.0,
+                                        double t1 = 1.0) {
+  const Vec2 d = p1 - p0;
+  const double vv = dot(v0, v1), v00 = norm2(v0), v11 = norm2(v1);
+  const double den = (4.0 * v00 * v11 - vv * vv) * (t1 - t0);
+  const double dv0 = dot(d, v0), dv1 = dot(d, v1);
+  const double a0 = (6.0 * dv0 * v11 - 3.0 * dv1 * vv) / den;
+  const double a1 = (6.0 * dv1 * v00 - 3.0 * dv0 * vv) / den;
+  // den is normal and positive and both results finite: the common case.
+  if (den >= 0x1p-1000 && den <= 0x1p1000 && std::abs(a0) <= 0x1p1020 && std::abs(a1) <= 0x1p1020) {
+    return {a0, a1};
+  }
+  return detail::ogh_coefficients_slow(p0, p1, v0, v1, t0, t1);
+}
 
 /// The equal-ratio variant a0 = a1 = a* (Section 2): the least strain energy when the ratio of
 /// the tangent magnitudes is kept. a* > 0 iff |V0| cos θ + |V1| cos φ > 0. Throws like above.
@@ -45,11 +66,19 @@ double ogh_equal_ratio_coefficient(Point p0, Point p1, Vec2 v0, Vec2 v1, double 
 
 /// The cubic Hermite curve (1) with end derivatives w0, w1 on [t0, t1], in Bézier form:
 /// p0, p0 + (t1 − t0)·w0/3, p1 − (t1 − t0)·w1/3, p1.
-CubicBezier hermite_bezier(Point p0, Point p1, Vec2 w0, Vec2 w1, double t0 = 0.0, double t1 = 1.0);
+inline CubicBezier hermite_bezier(Point p0, Point p1, Vec2 w0, Vec2 w1, double t0 = 0.0,
+                                  double t1 = 1.0) {
+  const double h = (t1 - t0) / 3.0;
+  return {{p0, p0 + h * w0, p1 - h * w1, p1}};
+}
 
 /// The OGH curve: hermite_bezier with w0 = a0*·V0, w1 = a1*·V1. Its geometry depends only on
 /// the points and the directions of V0, V1 (not on their lengths or on [t0, t1]).
-CubicBezier ogh_segment(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0 = 0.0, double t1 = 1.0);
+inline CubicBezier ogh_segment(Point p0, Point p1, Vec2 v0, Vec2 v1, double t0 = 0.0,
+                               double t1 = 1.0) {
+  const OghCoefficients a = ogh_coefficients(p0, p1, v0, v1, t0, t1);
+  return hermite_bezier(p0, p1, a.a0 * v0, a.a1 * v1, t0, t1);
+}
 
 /// Strain energy ∫_{t0}^{t1} |Q''(t)|² dt of the Hermite curve with derivatives w0, w1: the
 /// paper's f(a0, a1) = (t1 − t0)(A²/3 + A·B + B²) in closed form.
@@ -88,7 +117,7 @@ enum class CohMethod { kM0, kM1, kM2, kM3, kM4, kM5, kM6, kM7 };
 /// Symmetry-based extension (Section 4): T mirrors about the base line P0P1, R mirrors about its
 /// perpendicular bisector and reverses the curve, RT does both. On the angles:
 /// T: (θ, φ) → (−θ, −φ), R: (θ, φ) → (−φ, −θ), RT: (θ, φ) → (φ, θ).
-enum class CohSymmetry { kNone, kT, kR, kRT };
+enum class CohSymmetry { kNone = 0, kT = 1, kR = 2, kRT = 3 };  ///< bit 0: T, bit 1: R
 
 /// Number of OGH pieces of a base method (1, 2 or 3).
 int coh_piece_count(CohMethod method);
@@ -113,6 +142,14 @@ struct CohCurve {
   bool preserved = true;
 };
 
+/// End conditions of one Hermite span.
+struct HermiteEnds {
+  Point p0;
+  Point p1;
+  Vec2 v0;
+  Vec2 v1;
+};
+
 /// Builds M_i^s for the end conditions, whatever the angles (no region check: outside its
 /// region a construction may violate (6), which `preserved` and coh_check reveal).
 /// Throws Error(kInvalidArgument) for coincident points or zero tangents, kInfeasible when the
@@ -125,6 +162,11 @@ CohCurve coh_construct(CohMethod method, CohSymmetry symmetry, Point p0, Point p
 /// choice for the mirrored or reversed data is the mirrored or reversed choice (except on the
 /// measure-zero lines where two mirror images meet). Throws like coh_construct.
 CohCurve coh_curve(Point p0, Point p1, Vec2 v0, Vec2 v1);
+
+/// coh_curve for many spans: out[i] = coh_curve(ends[i]) (bit-identical), computed stage by
+/// stage over blocks of spans so that their dependency chains overlap (several times faster
+/// per span). Errors carry the index i of the offending span. out.size() >= ends.size().
+void coh_curves(std::span<const HermiteEnds> ends, std::span<CohCurve> out);
 
 /// Which construction coh_curve uses for the angles (no geometry built).
 struct CohChoice {
