@@ -3,22 +3,29 @@
 #include <cmath>
 #include <string>
 
+#include "detail/finite.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
-#include "detail/finite.hpp"
 #include "methods/builtin.hpp"
 
 namespace fairspline {
 
 std::string_view option_type_name(OptionType type) {
   switch (type) {
-    case OptionType::kNumber: return "number";
-    case OptionType::kInteger: return "integer";
-    case OptionType::kBoolean: return "boolean";
-    case OptionType::kChoice: return "choice";
-    case OptionType::kString: return "string";
-    case OptionType::kNumberList: return "number_list";
-    case OptionType::kChoiceOrNumber: return "choice_or_number";
+    case OptionType::kNumber:
+      return "number";
+    case OptionType::kInteger:
+      return "integer";
+    case OptionType::kBoolean:
+      return "boolean";
+    case OptionType::kChoice:
+      return "choice";
+    case OptionType::kString:
+      return "string";
+    case OptionType::kNumberList:
+      return "number_list";
+    case OptionType::kChoiceOrNumber:
+      return "choice_or_number";
   }
   return "unknown";
 }
@@ -28,7 +35,9 @@ const std::vector<MethodInfo>& methods() {
   return registry;
 }
 
-std::string_view default_method_name() { return "li-combined"; }
+std::string_view default_method_name() {
+  return "li-combined";
+}
 
 const MethodInfo& find_method(std::string_view name) {
   for (const MethodInfo& m : methods()) {
@@ -79,7 +88,8 @@ nlohmann::json check_value(const std::string& method, const OptionSpec& spec,
       }
       return v.get<double>();
     case OptionType::kInteger:
-      if (!v.is_number_integer() && !(v.is_number() && std::floor(v.get<double>()) == v.get<double>())) {
+      if (!v.is_number_integer() &&
+          !(v.is_number() && std::floor(v.get<double>()) == v.get<double>())) {
         bad(method, spec, v, "an integer" + bounds_text(spec));
       }
       if (!number_ok(spec, v.get<double>())) bad(method, spec, v, "an integer" + bounds_text(spec));

@@ -43,9 +43,12 @@ Vec2 Spline::derivative(double t, int order) const {
   const double u = local_parameter(k, t);
   const double inv = 1.0 / (s.t1 - s.t0);
   switch (order) {
-    case 1: return inv * s.bezier.d1(u);
-    case 2: return (inv * inv) * s.bezier.d2(u);
-    case 3: return (inv * inv * inv) * s.bezier.d3();
+    case 1:
+      return inv * s.bezier.d1(u);
+    case 2:
+      return (inv * inv) * s.bezier.d2(u);
+    case 3:
+      return (inv * inv * inv) * s.bezier.d3();
     default:
       if (order > 3) return {0.0, 0.0};
       throw Error(ErrorCode::kInvalidArgument, "derivative order must be at least 1");

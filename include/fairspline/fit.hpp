@@ -53,9 +53,9 @@ struct SegmentReport {
   double bending_energy = 0.0;              ///< ∫κ² ds
   double curvature_variation_energy = 0.0;  ///< ∫(dκ/ds)² ds
   double length = 0.0;
-  bool regular = true;                      ///< speed certified positive
-  double min_relative_speed = 0.0;          ///< min |c'(u)| / chord, lower bound from certificate
-  bool has_loop = false;                    ///< self-intersection within the piece
+  bool regular = true;              ///< speed certified positive
+  double min_relative_speed = 0.0;  ///< min |c'(u)| / chord, lower bound from certificate
+  bool has_loop = false;            ///< self-intersection within the piece
   bool has_cusp = false;
   bool has_fold = false;
 };
@@ -83,8 +83,8 @@ struct Report {
   /// Bending / curvature-variation quadratures that met a vanishing speed are flagged here
   /// instead of returning a meaningless number.
   bool energy_singular = false;
-  std::vector<SegmentReport> segments;       ///< full level only
-  std::vector<Intersection> intersections;   ///< full level only
+  std::vector<SegmentReport> segments;      ///< full level only
+  std::vector<Intersection> intersections;  ///< full level only
 };
 
 /// What every method returns.

@@ -16,12 +16,12 @@ namespace fairspline {
 
 /// Type of an option value in the schema.
 enum class OptionType {
-  kNumber,      ///< JSON number (double)
-  kInteger,     ///< JSON integer
-  kBoolean,     ///< true / false
-  kChoice,      ///< one string out of `choices`
-  kString,      ///< free string (e.g. another method's name)
-  kNumberList,  ///< array of numbers
+  kNumber,          ///< JSON number (double)
+  kInteger,         ///< JSON integer
+  kBoolean,         ///< true / false
+  kChoice,          ///< one string out of `choices`
+  kString,          ///< free string (e.g. another method's name)
+  kNumberList,      ///< array of numbers
   kChoiceOrNumber,  ///< one string out of `choices`, or a number within [min, max]
 };
 

@@ -31,41 +31,77 @@ struct Vec2 {
 /// Points and vectors share one type; the alias documents intent.
 using Point = Vec2;
 
-constexpr Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
-constexpr Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-constexpr Vec2 operator-(Vec2 a) { return {-a.x, -a.y}; }
-constexpr Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
-constexpr Vec2 operator*(Vec2 a, double s) { return {s * a.x, s * a.y}; }
-constexpr Vec2 operator/(Vec2 a, double s) { return {a.x / s, a.y / s}; }
+constexpr Vec2 operator+(Vec2 a, Vec2 b) {
+  return {a.x + b.x, a.y + b.y};
+}
+constexpr Vec2 operator-(Vec2 a, Vec2 b) {
+  return {a.x - b.x, a.y - b.y};
+}
+constexpr Vec2 operator-(Vec2 a) {
+  return {-a.x, -a.y};
+}
+constexpr Vec2 operator*(double s, Vec2 a) {
+  return {s * a.x, s * a.y};
+}
+constexpr Vec2 operator*(Vec2 a, double s) {
+  return {s * a.x, s * a.y};
+}
+constexpr Vec2 operator/(Vec2 a, double s) {
+  return {a.x / s, a.y / s};
+}
 
 /// Dot product a·b.
-constexpr double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+constexpr double dot(Vec2 a, Vec2 b) {
+  return a.x * b.x + a.y * b.y;
+}
 /// 2-D cross product (z-component of a×b): positive when b is counter-clockwise of a.
-constexpr double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+constexpr double cross(Vec2 a, Vec2 b) {
+  return a.x * b.y - a.y * b.x;
+}
 /// Squared Euclidean norm.
-constexpr double norm2(Vec2 a) { return dot(a, a); }
+constexpr double norm2(Vec2 a) {
+  return dot(a, a);
+}
 /// Euclidean norm, overflow-safe.
-inline double norm(Vec2 a) { return std::hypot(a.x, a.y); }
+inline double norm(Vec2 a) {
+  return std::hypot(a.x, a.y);
+}
 /// Distance between two points.
-inline double distance(Point a, Point b) { return norm(b - a); }
+inline double distance(Point a, Point b) {
+  return norm(b - a);
+}
 /// a rotated by +90 degrees.
-constexpr Vec2 perp(Vec2 a) { return {-a.y, a.x}; }
+constexpr Vec2 perp(Vec2 a) {
+  return {-a.y, a.x};
+}
 /// Unit vector in the direction of a; a must be non-zero.
-inline Vec2 normalized(Vec2 a) { return a / norm(a); }
+inline Vec2 normalized(Vec2 a) {
+  return a / norm(a);
+}
 /// Polar angle of a in (-pi, pi].
-inline double angle(Vec2 a) { return std::atan2(a.y, a.x); }
+inline double angle(Vec2 a) {
+  return std::atan2(a.y, a.x);
+}
 /// Signed angle from a to b in (-pi, pi]: positive when turning counter-clockwise.
-inline double signed_angle(Vec2 a, Vec2 b) { return std::atan2(cross(a, b), dot(a, b)); }
+inline double signed_angle(Vec2 a, Vec2 b) {
+  return std::atan2(cross(a, b), dot(a, b));
+}
 /// Unit vector at polar angle phi.
-inline Vec2 from_angle(double phi) { return {std::cos(phi), std::sin(phi)}; }
+inline Vec2 from_angle(double phi) {
+  return {std::cos(phi), std::sin(phi)};
+}
 /// a rotated counter-clockwise by phi.
 inline Vec2 rotate(Vec2 a, double phi) {
   const double c = std::cos(phi), s = std::sin(phi);
   return {c * a.x - s * a.y, s * a.x + c * a.y};
 }
 /// Linear interpolation (1-u)a + u b.
-constexpr Point lerp(Point a, Point b, double u) { return a + u * (b - a); }
+constexpr Point lerp(Point a, Point b, double u) {
+  return a + u * (b - a);
+}
 /// True when both coordinates are finite.
-inline bool is_finite(Vec2 a) { return std::isfinite(a.x) && std::isfinite(a.y); }
+inline bool is_finite(Vec2 a) {
+  return std::isfinite(a.x) && std::isfinite(a.y);
+}
 
 }  // namespace fairspline

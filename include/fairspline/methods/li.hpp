@@ -17,8 +17,8 @@ namespace fairspline {
 
 /// Options of the Li methods.
 struct LiOptions {
-  double strain_weight = 1.0;                ///< w1 >= 0
-  double curvature_variation_weight = 0.0;   ///< w2 >= 0; w1 + w2 > 0
+  double strain_weight = 1.0;               ///< w1 >= 0
+  double curvature_variation_weight = 0.0;  ///< w2 >= 0; w1 + w2 > 0
 };
 
 /// Fits a C1 cubic Hermite spline whose tangent vectors minimize the weighted approximate
