@@ -118,6 +118,28 @@ TEST_F(Cli, FitEachLiMethodAsJson) {
   }
 }
 
+TEST_F(Cli, YongChengHermiteExampleAndMissingTangents) {
+  const std::string hermite =
+      std::string(FAIRSPLINE_SOURCE_DIR) + "/examples/yong-cheng-hermite.json";
+  const CliRun r = run("fit " + quote(hermite) + " --report basic");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["method"], "yong-cheng");
+  EXPECT_TRUE(j["report"]["regular"].get<bool>());
+  EXPECT_TRUE(j["method_report"]["all_preserved"].get<bool>());
+  EXPECT_EQ(j["method_report"]["spans"].size(), 4u);
+  // The segments of a span carry its index; composite spans have several.
+  EXPECT_GT(j["segments"].size(), 4u);
+  // Points alone: a clear error naming the point, exit 1; tangents_from fixes it.
+  const CliRun bad = run("fit " + quote(kExample) + " -m yong-cheng");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("point 0 has none"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("tangents_from"), std::string::npos) << bad.err;
+  const CliRun ok =
+      run("fit " + quote(kExample) + " -m yong-cheng --set tangents_from=jaklic-zagar");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
 TEST_F(Cli, DefaultMethodAndStdin) {
   const std::string csv = slurp(kExample);
   const CliRun a = run("fit", csv);
