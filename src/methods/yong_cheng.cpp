@@ -772,11 +772,6 @@ void collect_tangents(const FitInput& input, const YongChengOptions& options, st
   }
 }
 
-struct SpanPieces {
-  CohCurve coh;
-  double h = 0.0;
-};
-
 }  // namespace
 
 void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, ReportLevel level,
