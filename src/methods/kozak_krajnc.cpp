@@ -1,9 +1,11 @@
 // Kozak–Krajnc building blocks. See include/fairspline/methods/kozak_krajnc.hpp.
 #include "fairspline/methods/kozak_krajnc.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "detail/bernstein.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline {
@@ -109,6 +111,338 @@ bool kozak_krajnc_theorem_2_5(const KozakKrajncConstants& c) {
            m2 < kozak_krajnc_phi4(l1, l2, m1);
   };
   return holds(c.lambda1, c.lambda2, c.mu1, c.mu2) || holds(c.lambda2, c.lambda1, c.mu2, c.mu1);
+}
+
+}  // namespace fairspline
+
+// ---------------------------------------------------------------------------------------------
+// Table 3.3 and the single-piece solver.
+
+namespace fairspline {
+
+int kozak_krajnc_table_3_3(const KozakKrajncConstants& c) {
+  const double l1 = c.lambda1, l2 = c.lambda2, m1 = c.mu1, m2 = c.mu2;
+  const double d1 = c.delta1, d2 = c.delta2;
+  if (l1 > 0 && l2 > 0) {
+    const double p1 = *kozak_krajnc_phi1(l1, l2), p2 = *kozak_krajnc_phi2(l1, l2);
+    if (d1 > 0 && d2 > 0) {
+      if (m1 <= 0 && kozak_krajnc_phi4(l1, l2, m1) < m2 && m2 < p2) return 1;
+      if (m1 > 0 && m1 <= (1 + 2 * l2) / (l2 * l2) && kozak_krajnc_phi3(l1, l2, m1) < m2 &&
+          m2 <= 0) {
+        return 2;
+      }
+    }
+    if (d1 < 0 && d2 > 0) {
+      if (m1 > 1 / l2 && kozak_krajnc_phi4(l1, l2, m1) < m2 && m2 < p2) return 3;
+      if (m1 <= 1 / l2 && p2 < m2) return 4;
+    }
+    if (d1 > 0 && d2 < 0) {
+      if (m2 > 1 / l1 && kozak_krajnc_phi4(l2, l1, m2) < m1 && m1 < p1) return 5;
+      if (m2 <= 1 / l1 && p1 < m1) return 6;
+    }
+    return 0;
+  }
+  if (l1 < 0 && l2 < 0 && d1 > 0 && d2 > 0) {
+    if (m1 >= 0 && kozak_krajnc_phi3(l1, l2, m1) < m2) return 7;
+    if (1 / l2 < m1 && m1 <= 0 && kozak_krajnc_phi4(l1, l2, m1) < m2) return 8;
+  }
+  return 0;
+}
+
+int KozakKrajncSolutions::total_multiplicity() const {
+  int total = 0;
+  for (const auto& s : *this) total += s.multiplicity;
+  return total;
+}
+
+CubicBezier kozak_krajnc_bezier(Point t0, Point t3, Vec2 d0, Vec2 d3,
+                                const KozakKrajncSolution& solution) {
+  return {{t0, t0 + (solution.alpha0 / 3.0) * d0, t3 - (solution.alpha3 / 3.0) * d3, t3}};
+}
+
+namespace {
+
+/// The system (2.3) cleared of denominators, as cubics in t1 whose coefficients are polynomials
+/// in t2:  F = t2²(1−t2) − (1+μ1) t1²(1−t1) + A1 (t2−t1) t1² t2²,
+///         G = t1(1−t1)² − (1+μ2) t2(1−t2)² + A2 (t2−t1)(1−t1)²(1−t2)²,
+/// with A1 = 1 + μ1(1+λ1) − λ1/λ2, A2 = 1 + μ2(1+λ2) − λ2/λ1 (λ1/λ2 = D12/D01 needs no λ ≠ 0).
+struct ClearedSystem {
+  double mu1, mu2, a1, a2;
+
+  /// Coefficients of F and G in powers of t1 at the given t2.
+  void coefficients(double t2, double f[4], double g[4]) const {
+    const double t22 = t2 * t2, w = (1.0 - t2) * (1.0 - t2);
+    f[0] = t22 * (1.0 - t2);
+    f[1] = 0.0;
+    f[2] = -(1.0 + mu1) + a1 * t22 * t2;
+    f[3] = (1.0 + mu1) - a1 * t22;
+    g[0] = (a2 - (1.0 + mu2)) * t2 * w;
+    g[1] = 1.0 - a2 * w * (2.0 * t2 + 1.0);
+    g[2] = -2.0 + a2 * w * (t2 + 2.0);
+    g[3] = 1.0 - a2 * w;
+  }
+  /// F, G and their partial derivatives at (t1, t2); `scale` gets the size of the terms.
+  void eval(double x, double y, double& F, double& G, double J[2][2], double& scale) const {
+    const double x2 = x * x, y2 = y * y, ux = 1.0 - x, uy = 1.0 - y;
+    const double p = 1.0 + mu1, q = 1.0 + mu2;
+    F = y2 * uy - p * x2 * ux + a1 * (y - x) * x2 * y2;
+    G = x * ux * ux - q * y * uy * uy + a2 * (y - x) * ux * ux * uy * uy;
+    J[0][0] = -p * (2.0 * x - 3.0 * x2) + a1 * y2 * (2.0 * x * y - 3.0 * x2);
+    J[0][1] = 2.0 * y - 3.0 * y2 + a1 * x2 * (3.0 * y2 - 2.0 * x * y);
+    J[1][0] = ux * ux - 2.0 * x * ux + a2 * uy * uy * (-ux * ux - 2.0 * (y - x) * ux);
+    J[1][1] = -q * (uy * uy - 2.0 * y * uy) + a2 * ux * ux * (uy * uy - 2.0 * (y - x) * uy);
+    scale = std::abs(y2 * uy) + std::abs(p * x2 * ux) + std::abs(a1 * (y - x) * x2 * y2) +
+            std::abs(x * ux * ux) + std::abs(q * y * uy * uy) +
+            std::abs(a2 * (y - x) * ux * ux * uy * uy);
+  }
+};
+
+/// Bézout matrix of two cubics (det = resultant).
+void bezout(const double f[4], const double g[4], double B[3][3]) {
+  auto c = [&](int k, int l) { return f[k] * g[l] - f[l] * g[k]; };
+  const double c01 = c(0, 1), c02 = c(0, 2), c03 = c(0, 3), c12 = c(1, 2), c13 = c(1, 3),
+               c23 = c(2, 3);
+  B[0][0] = c01, B[0][1] = c02, B[0][2] = c03;
+  B[1][0] = c02, B[1][1] = c03 + c12, B[1][2] = c13;
+  B[2][0] = c03, B[2][1] = c13, B[2][2] = c23;
+}
+
+double det3(const double B[3][3]) {
+  return B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) -
+         B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
+         B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0]);
+}
+
+constexpr int kQDegree = 9;
+constexpr int kNodes = kQDegree + 1;
+
+/// Chebyshev nodes on (0, 1) and the matrix taking values there to degree-9 Bernstein
+/// coefficients (inverse of the collocation matrix), computed once.
+struct Interpolation {
+  double node[kNodes];
+  double weight[kNodes];  ///< 1 / (x³(1−x)³) at the nodes
+  double to_bernstein[kNodes][kNodes];
+
+  Interpolation() {
+    const double pi = std::acos(-1.0);
+    double a[kNodes][2 * kNodes] = {};
+    for (int i = 0; i < kNodes; ++i) {
+      const double x = 0.5 * (1.0 - std::cos((2 * i + 1) * pi / (2 * kNodes)));
+      node[i] = x;
+      weight[i] = 1.0 / std::pow(x * (1.0 - x), 3);
+      double binom = 1.0;
+      for (int j = 0; j < kNodes; ++j) {
+        a[i][j] = binom * std::pow(x, j) * std::pow(1.0 - x, kQDegree - j);
+        binom = binom * (kQDegree - j) / (j + 1);
+      }
+      a[i][kNodes + i] = 1.0;
+    }
+    for (int col = 0; col < kNodes; ++col) {  // Gauss–Jordan with partial pivoting
+      int piv = col;
+      for (int r = col + 1; r < kNodes; ++r) {
+        if (std::abs(a[r][col]) > std::abs(a[piv][col])) piv = r;
+      }
+      for (int j = 0; j < 2 * kNodes; ++j) std::swap(a[col][j], a[piv][j]);
+      const double inv = 1.0 / a[col][col];
+      for (int j = 0; j < 2 * kNodes; ++j) a[col][j] *= inv;
+      for (int r = 0; r < kNodes; ++r) {
+        if (r == col) continue;
+        const double m = a[r][col];
+        for (int j = 0; j < 2 * kNodes; ++j) a[r][j] -= m * a[col][j];
+      }
+    }
+    for (int i = 0; i < kNodes; ++i) {
+      for (int j = 0; j < kNodes; ++j) to_bernstein[i][j] = a[i][kNodes + j];
+    }
+  }
+};
+
+const Interpolation& interpolation() {
+  static const Interpolation table;
+  return table;
+}
+
+/// The real roots t1 ∈ [0, t2] of the cubic F(·, t2) (F vanishes on every solution, so these
+/// are Newton starts for the solutions on this fibre), by Bernstein isolation on [0, t2].
+detail::BernsteinRoots fibre_roots(const ClearedSystem& sys, double t2) {
+  double f[4], g[4];
+  sys.coefficients(t2, f, g);
+  // t1 = t2·u: monomial coefficients c_i = f_i t2^i, then b_j = Σ_{i≤j} C(j,i)/C(3,i) c_i.
+  const double c0 = f[0], c1 = f[1] * t2, c2 = f[2] * t2 * t2, c3 = f[3] * t2 * t2 * t2;
+  detail::BernsteinPoly cubic;
+  cubic.degree = 3;
+  cubic.b[0] = c0;
+  cubic.b[1] = c0 + c1 / 3.0;
+  cubic.b[2] = c0 + 2.0 * c1 / 3.0 + c2 / 3.0;
+  cubic.b[3] = c0 + c1 + c2 + c3;
+  detail::BernsteinRoots roots = detail::bernstein_roots(cubic, 1e-12);
+  for (int i = 0; i < roots.count; ++i) roots.items[i].u *= t2;
+  return roots;
+}
+
+/// Newton's method on the cleared system from (x, y); false if it did not reach a root.
+/// `singular` reports a (numerically) singular Jacobian there: the curves (2.3) are tangent and
+/// the root is multiple. Newton then converges only linearly and wanders in a valley of width
+/// about ε^(1/k), so the iterate with the smallest residual is kept.
+bool polish(const ClearedSystem& sys, double& x, double& y, bool& singular) {
+  double best_x = x, best_y = y, best = HUGE_VAL, best_det = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    double F, G, J[2][2], scale;
+    sys.eval(x, y, F, G, J, scale);
+    const double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
+    const double nf = std::hypot(J[0][0], J[0][1]), ng = std::hypot(J[1][0], J[1][1]);
+    const double residual = std::max(std::abs(F), std::abs(G)) / scale;
+    if (residual < best) {
+      best = residual, best_x = x, best_y = y, best_det = std::abs(det) / (nf * ng);
+    }
+    if (residual == 0.0 || !(std::abs(det) > 1e-300)) break;
+    const double dx = (J[1][1] * F - J[0][1] * G) / det;
+    const double dy = (J[0][0] * G - J[1][0] * F) / det;
+    x -= dx;
+    y -= dy;
+    if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 4.0 || std::abs(y) > 4.0) break;
+    // Quadratic convergence: once the step is at rounding level, one more evaluation suffices.
+    if (std::abs(dx) + std::abs(dy) <= 1e-14 && best_det > 1e-6) {
+      sys.eval(x, y, F, G, J, scale);
+      if (std::max(std::abs(F), std::abs(G)) / scale < best) best_x = x, best_y = y;
+      break;
+    }
+  }
+  x = best_x;
+  y = best_y;
+  singular = !(best_det > 1e-6);
+  return best <= 1e-11;
+}
+
+/// Order of contact of the curves F = 0 and G = 0 at (x, y): G restricted to the curve F = 0
+/// behaves like c·s^k; k is read off the values at arc steps h and 2h on both sides.
+int contact_order(const ClearedSystem& sys, double x, double y) {
+  double F, G, J[2][2], scale;
+  sys.eval(x, y, F, G, J, scale);
+  const double nf = std::hypot(J[0][0], J[0][1]);
+  if (!(nf > 0.0)) return 2;
+  const double tx = -J[0][1] / nf, ty = J[0][0] / nf;
+  auto g_on_curve = [&](double s) {
+    double px = x + s * tx, py = y + s * ty;
+    for (int it = 0; it < 50; ++it) {  // project back onto F = 0 along ∇F
+      double f, g, jj[2][2], sc;
+      sys.eval(px, py, f, g, jj, sc);
+      const double n2 = jj[0][0] * jj[0][0] + jj[0][1] * jj[0][1];
+      if (!(n2 > 0.0)) break;
+      px -= f * jj[0][0] / n2;
+      py -= f * jj[0][1] / n2;
+      if (std::abs(f) <= 1e-16 * sc) break;
+    }
+    double f, g, jj[2][2], sc;
+    sys.eval(px, py, f, g, jj, sc);
+    return std::abs(g);
+  };
+  const double h = 2e-3;
+  const double near = g_on_curve(h) + g_on_curve(-h);
+  const double far = g_on_curve(2 * h) + g_on_curve(-2 * h);
+  if (!(near > 0.0) || !(far > 0.0)) return 2;
+  const int k = static_cast<int>(std::lround(std::log2(far / near)));
+  return std::clamp(k, 2, 9);
+}
+
+}  // namespace
+
+KozakKrajncSolutions kozak_krajnc_solve(Point T0, Point T1, Point T2, Point T3, Vec2 d0, Vec2 d3) {
+  const KozakKrajncConstants k = kozak_krajnc_constants(T0, T1, T2, T3, d0, d3);
+  const Vec2 e0 = T1 - T0, e1 = T2 - T1, e2 = T3 - T2;
+  const double d01 = cross(e0, e1), d12 = cross(e1, e2);
+  const ClearedSystem sys{k.mu1, k.mu2, 1.0 + k.mu1 * (1.0 + k.lambda1) - d12 / d01,
+                          1.0 + k.mu2 * (1.0 + k.lambda2) - d01 / d12};
+
+  // Resultant R(t2) = det Bézout(F, G; t1) = t2³(1−t2)³·Q(t2), deg Q ≤ 9: Q's Bernstein
+  // coefficients by interpolation at Chebyshev nodes.
+  const Interpolation& ip = interpolation();
+  double values[kNodes];
+  for (int i = 0; i < kNodes; ++i) {
+    double f[4], g[4], B[3][3];
+    sys.coefficients(ip.node[i], f, g);
+    bezout(f, g, B);
+    values[i] = det3(B) * ip.weight[i];
+  }
+  detail::BernsteinPoly q;
+  q.degree = kQDegree;
+  double qmax = 0.0;
+  for (int i = 0; i < kNodes; ++i) {
+    double s = 0.0;
+    for (int j = 0; j < kNodes; ++j) s += ip.to_bernstein[i][j] * values[j];
+    q.b[i] = s;
+    qmax = std::max(qmax, std::abs(s));
+  }
+  if (!(qmax > 0.0) || !std::isfinite(qmax)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "kozak-krajnc: the equations (2.3) are degenerate for these data (their "
+                "resultant vanishes identically)");
+  }
+  const detail::BernsteinRoots roots = detail::bernstein_roots(q, 1e-7);
+
+  KozakKrajncSolutions out;
+  struct Candidate {
+    double t1, t2;
+    bool singular;
+  };
+  Candidate found[detail::BernsteinRoots::kCapacity];
+  int nfound = 0;
+  for (int r = 0; r < roots.count; ++r) {
+    const double y0 = roots.items[r].u;
+    // Only t1 ∈ (0, t2) can be admissible: Newton starts at the roots of F(·, t2) there. (The
+    // Bézout null vector would give the common root directly, but mixes neighbours when roots
+    // of Q cluster; F's own roots do not.)
+    const detail::BernsteinRoots starts = fibre_roots(sys, y0);
+    for (int s = 0; s < starts.count; ++s) {
+      double x = starts.items[s].u, y = y0;
+      bool singular = false;
+      if (!polish(sys, x, y, singular)) continue;
+      if (!(x > 0.0 && x < y && y < 1.0)) continue;
+      bool duplicate = false;
+      for (int i = 0; i < nfound; ++i) {
+        const double tol = (singular || found[i].singular) ? 1e-4 : 1e-10;
+        if (std::abs(found[i].t1 - x) <= tol && std::abs(found[i].t2 - y) <= tol) {
+          duplicate = true;
+          break;
+        }
+      }
+      if (!duplicate && nfound < detail::BernsteinRoots::kCapacity) {
+        found[nfound++] = {x, y, singular};
+      }
+    }
+  }
+
+  const double size = std::max({norm(e0), norm(e1), norm(e2)});
+  for (int i = 0; i < nfound && out.count < KozakKrajncSolutions::kCapacity; ++i) {
+    const double t1 = found[i].t1, t2 = found[i].t2;
+    // (2.4), (2.5)
+    const double alpha0 =
+        k.delta1 * t1 * t2 / (t2 - t1) *
+        (1.0 / (t2 * t2 * (1.0 - t2)) - (t2 - t1) / ((1.0 - t1) * (1.0 - t2)) * (1.0 + k.lambda1));
+    const double alpha3 =
+        k.delta2 * (1.0 - t1) * (1.0 - t2) / (t2 - t1) *
+        (1.0 / (t1 * (1.0 - t1) * (1.0 - t1)) - (t2 - t1) / (t1 * t2) * (1.0 + k.lambda2));
+    if (!(alpha0 > 0.0 && alpha3 > 0.0)) continue;
+    KozakKrajncSolution s;
+    s.t1 = t1;
+    s.t2 = t2;
+    s.alpha0 = alpha0;
+    s.alpha3 = alpha3;
+    s.multiplicity = found[i].singular ? contact_order(sys, t1, t2) : 1;
+    const CubicBezier c = kozak_krajnc_bezier(T0, T3, d0, d3, s);
+    // Verification by the interpolation residual. The cleared system also vanishes on the
+    // boundary of D (e.g. at t1 = t2 = 0), so roots rounding pushed just inside are caught here.
+    if (!(std::max(norm(c.eval(t1) - T1), norm(c.eval(t2) - T2)) <= 1e-9 * size)) continue;
+    const Vec2 a = c.d2(0.0), b = c.d2(1.0);
+    s.energy = (dot(a, a) + dot(a, b) + dot(b, b)) / 3.0;
+    out.items[out.count++] = s;
+  }
+  std::sort(out.items.begin(), out.items.begin() + out.count,
+            [](const auto& a, const auto& b) { return a.t1 < b.t1; });
+  for (int i = 0; i < out.count; ++i) {
+    if (out.chosen < 0 || out.items[i].energy < out.items[out.chosen].energy) out.chosen = i;
+  }
+  return out;
 }
 
 }  // namespace fairspline

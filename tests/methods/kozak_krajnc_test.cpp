@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
+#include <vector>
 
 #include "fairspline/error.hpp"
 #include "test_util.hpp"
@@ -152,6 +155,229 @@ TEST(KozakKrajncConstants, DegenerateDataThrows) {
   });
   EXPECT_EQ(f.code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(std::string(f.what()).find("d0"), std::string::npos);
+}
+
+/// Largest distance of the piece from T1, T2 at its parameters, relative to the data size.
+double interpolation_residual(Point T0, Point T1, Point T2, Point T3, Vec2 d0, Vec2 d3,
+                              const KozakKrajncSolution& s) {
+  const CubicBezier c = kozak_krajnc_bezier(T0, T3, d0, d3, s);
+  const double size = std::max({norm(T1 - T0), norm(T2 - T1), norm(T3 - T2)});
+  return std::max(norm(c.eval(s.t1) - T1), norm(c.eval(s.t2) - T2)) / size;
+}
+
+TEST(KozakKrajncSolve, Table32) {
+  // The withheld Table 3.2, computed here and independently (exact resultants in SymPy,
+  // tests/py/test_kozak_krajnc.py). Data 1: the uniform cubic through the symmetric points,
+  // a single solution where the curves (2.3) touch with contact order 3 (α for the printed
+  // d0 = (2, 3); the table's δ = 1 would divide them by 4). Data 2: t = (1 − 1/√3, 1/√3),
+  // α = 3 + 3√3. Data 3: one simple solution.
+  struct Row {
+    double t1, t2, alpha0, alpha3;
+    int multiplicity;
+    double tol;
+  };
+  const double r3 = std::sqrt(3.0);
+  const Row rows[3] = {
+      {1.0 / 3, 2.0 / 3, 6, 6, 3, 1e-4},
+      {1 - 1 / r3, 1 / r3, 3 + 3 * r3, 3 + 3 * r3, 1, 1e-13},
+      {0.450046590620398, 0.583424586275439, 12.164220336736625, 12.182770956783598, 1, 1e-12}};
+  for (int k = 0; k < 3; ++k) {
+    const double sign = kData[k].s == 1 ? -1.0 : 1.0;
+    const Point T0{-4, -4}, T1{0, 0}, T2{4, 0}, T3{9 + sign, 4 * sign};
+    const KozakKrajncSolutions sol = kozak_krajnc_solve(T0, T1, T2, T3, kData[k].d0, kData[k].d3);
+    ASSERT_EQ(sol.count, 1) << k;
+    const KozakKrajncSolution& s = sol.items[0];
+    const Row& r = rows[k];
+    EXPECT_NEAR(s.t1, r.t1, r.tol) << k;
+    EXPECT_NEAR(s.t2, r.t2, r.tol) << k;
+    EXPECT_NEAR(s.alpha0, r.alpha0, r.tol * 100) << k;
+    EXPECT_NEAR(s.alpha3, r.alpha3, r.tol * 100) << k;
+    EXPECT_EQ(s.multiplicity, r.multiplicity) << k;
+    EXPECT_EQ(sol.total_multiplicity() % 2, 1) << k;  // odd, as Step 1 of Section 3 says
+    EXPECT_EQ(sol.chosen, 0);
+    EXPECT_LT(interpolation_residual(T0, T1, T2, T3, kData[k].d0, kData[k].d3, s), r.tol) << k;
+  }
+}
+
+/// Random four points and end directions near a smooth curve, so that admissible data are common.
+struct RandomPiece {
+  Point T[4];
+  Vec2 d0, d3;
+};
+RandomPiece random_piece(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  RandomPiece p;
+  double angle = u(rng) * 3.14159, x = 0, y = 0;
+  const double turn = 1.2 * u(rng);
+  for (int i = 0; i < 4; ++i) {
+    p.T[i] = {x, y};
+    const double len = 0.3 + std::abs(u(rng));
+    angle += turn + 0.6 * u(rng);
+    x += len * std::cos(angle);
+    y += len * std::sin(angle);
+  }
+  const Vec2 c0 = p.T[1] - p.T[0], c2 = p.T[3] - p.T[2];
+  auto rotate = [](Vec2 v, double a) {
+    return Vec2{v.x * std::cos(a) - v.y * std::sin(a), v.x * std::sin(a) + v.y * std::cos(a)};
+  };
+  p.d0 = rotate(c0, 1.2 * u(rng));
+  p.d3 = rotate(c2, 1.2 * u(rng));
+  return p;
+}
+
+TEST(KozakKrajncSolve, EverySolutionInterpolatesAndTheoremsGiveAnOddCount) {
+  std::mt19937_64 rng(11);
+  int with_theorem = 0, multiple = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const RandomPiece p = random_piece(rng);
+    KozakKrajncConstants c;
+    try {
+      c = kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+    } catch (const Error&) {
+      continue;
+    }
+    const KozakKrajncSolutions sol = kozak_krajnc_solve(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+    for (const KozakKrajncSolution& s : sol) {
+      ASSERT_TRUE(0 < s.t1 && s.t1 < s.t2 && s.t2 < 1 && s.alpha0 > 0 && s.alpha3 > 0);
+      ASSERT_LT(interpolation_residual(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3, s), 1e-12)
+          << trial << " " << c.lambda1 << " " << c.lambda2 << " " << c.mu1 << " " << c.mu2 << " "
+          << c.delta1 << " " << c.delta2 << " t " << s.t1 << " " << s.t2 << " a " << s.alpha0 << " "
+          << s.alpha3 << " m " << s.multiplicity;
+    }
+    if (sol.count > 1) ++multiple;
+    if (kozak_krajnc_theorem_2_4(c) || kozak_krajnc_theorem_2_5(c)) {
+      ++with_theorem;
+      ASSERT_GE(sol.count, 1) << trial << " " << c.lambda1 << " " << c.lambda2 << " " << c.mu1
+                              << " " << c.mu2 << " " << c.delta1 << " " << c.delta2;
+      ASSERT_EQ(sol.total_multiplicity() % 2, 1)
+          << trial << " " << c.lambda1 << " " << c.lambda2 << " " << c.mu1 << " " << c.mu2
+          << " count " << sol.count << " t " << sol.items[0].t1 << " " << sol.items[0].t2 << " m "
+          << sol.items[0].multiplicity << " t' " << sol.items[1].t1 << " " << sol.items[1].t2
+          << " m " << sol.items[1].multiplicity;
+    }
+  }
+  EXPECT_GT(with_theorem, 3000);
+  EXPECT_GT(multiple, 10);  // several admissible solutions do occur; all are reported
+}
+
+/// Data with prescribed constants (2.6): T0 = 0, ΔT0 = (1, 0), ΔT1 = (a, 1), ΔT2 = (c, λ1) with
+/// c = aλ1 − λ1/λ2, then d0 and d3 solved from μ and δ (the free shear `a` varies the shape).
+RandomPiece piece_from_constants(double l1, double l2, double m1, double m2, double de1, double de2,
+                                 double a) {
+  RandomPiece p;
+  const double e = l1, c = a * l1 - l1 / l2, d12 = l1 / l2;
+  p.T[0] = {0, 0};
+  p.T[1] = {1, 0};
+  p.T[2] = p.T[1] + Vec2{a, 1};
+  p.T[3] = p.T[2] + Vec2{c, e};
+  const double q = -1 / de1;
+  p.d0 = {q * (a - m1), q};
+  // [−e c; −1 a](r, s) = (K, μ2 K) with K = D12/δ2.
+  const double K = d12 / de2, det = c - e * a;
+  p.d3 = {(a * K - c * m2 * K) / det, (-e * m2 * K + K) / det};
+  return p;
+}
+
+TEST(KozakKrajncSolve, PieceFromConstantsRoundTrips) {
+  const RandomPiece p = piece_from_constants(1.5, -0.7, 2.5, 0.3, 0.8, -1.9, 0.4);
+  const KozakKrajncConstants c = kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+  EXPECT_NEAR(c.lambda1, 1.5, 1e-14);
+  EXPECT_NEAR(c.lambda2, -0.7, 1e-14);
+  EXPECT_NEAR(c.mu1, 2.5, 1e-14);
+  EXPECT_NEAR(c.mu2, 0.3, 1e-14);
+  EXPECT_NEAR(c.delta1, 0.8, 1e-14);
+  EXPECT_NEAR(c.delta2, -1.9, 1e-14);
+}
+
+TEST(KozakKrajncSolve, TheoremsAndTable33AdmitAnOddNumberOfSolutions) {
+  // Theorems 2.4, 2.5 and every row of Table 3.3 (stated without proof in the paper), on data
+  // sampled directly in the constants' space.
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> lam(0.05, 8), mu(-8, 8), del(0.1, 4), shear(-2, 2),
+      coin(0, 1);
+  int hits[11] = {};
+  for (int trial = 0; trial < 150000; ++trial) {
+    const double l1 = lam(rng) * (coin(rng) < 0.5 ? -1 : 1);
+    const double l2 = lam(rng) * (coin(rng) < 0.5 ? -1 : 1);
+    const double de1 = del(rng) * (coin(rng) < 0.2 ? -1 : 1);
+    const double de2 = del(rng) * (coin(rng) < 0.2 ? -1 : 1);
+    const RandomPiece p = piece_from_constants(l1, l2, mu(rng), mu(rng), de1, de2, shear(rng));
+    const KozakKrajncConstants c =
+        kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+    int which = kozak_krajnc_table_3_3(c);
+    if (kozak_krajnc_theorem_2_4(c)) which = 9;
+    if (kozak_krajnc_theorem_2_5(c)) which = 10;
+    if (which == 0) continue;
+    ++hits[which];
+    const KozakKrajncSolutions sol = kozak_krajnc_solve(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+    ASSERT_EQ(sol.total_multiplicity() % 2, 1)
+        << "case " << which << ": " << c.lambda1 << " " << c.lambda2 << " " << c.mu1 << " " << c.mu2
+        << " " << c.delta1 << " " << c.delta2 << " count " << sol.count;
+  }
+  for (int which = 1; which <= 10; ++which) {
+    EXPECT_GT(hits[which], 50) << which;  // every case exercised
+  }
+  std::printf("cases hit:");
+  for (int which = 1; which <= 10; ++which) std::printf(" %d", hits[which]);
+  std::printf("\n");
+}
+
+/// Brute force: Newton on (2.3) from a 24×24 grid of starts in the triangle 0 < t1 < t2 < 1.
+std::vector<ParameterPair> brute_force(const KozakKrajncConstants& c) {
+  const System sys{c.lambda1, c.lambda2, c.mu1, c.mu2, c.delta1, c.delta2};
+  std::vector<ParameterPair> found;
+  const int n = 24;
+  for (int i = 1; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      double x = double(i) / n, y = double(j) / n;
+      bool ok = false;
+      for (int it = 0; it < 60; ++it) {
+        const double h = 1e-7;
+        const double f = sys.f1(x, y), g = sys.f2(x, y);
+        const double fx = (sys.f1(x + h, y) - sys.f1(x - h, y)) / (2 * h);
+        const double fy = (sys.f1(x, y + h) - sys.f1(x, y - h)) / (2 * h);
+        const double gx = (sys.f2(x + h, y) - sys.f2(x - h, y)) / (2 * h);
+        const double gy = (sys.f2(x, y + h) - sys.f2(x, y - h)) / (2 * h);
+        const double det = fx * gy - fy * gx;
+        if (det == 0 || !std::isfinite(det)) break;
+        const double dx = (gy * f - fy * g) / det, dy = (fx * g - gx * f) / det;
+        x -= dx, y -= dy;
+        if (!(x > 1e-6 && x < y - 1e-9 && y < 1 - 1e-6)) break;
+        if (std::abs(dx) + std::abs(dy) < 1e-13) {
+          ok = true;
+          break;
+        }
+      }
+      if (!ok || !(sys.alpha0(x, y) > 1e-9 && sys.alpha3(x, y) > 1e-9)) continue;
+      found.push_back({x, y});
+    }
+  }
+  return found;
+}
+
+TEST(KozakKrajncSolve, BruteForceFindsNothingTheSolverMissed) {
+  std::mt19937_64 rng(13);
+  int checked = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const RandomPiece p = random_piece(rng);
+    KozakKrajncConstants c;
+    try {
+      c = kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+    } catch (const Error&) {
+      continue;
+    }
+    const KozakKrajncSolutions sol = kozak_krajnc_solve(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+    for (const ParameterPair& b : brute_force(c)) {
+      bool matched = false;
+      for (const KozakKrajncSolution& s : sol) {
+        matched = matched || (std::abs(s.t1 - b.t1) < 1e-6 && std::abs(s.t2 - b.t2) < 1e-6);
+      }
+      ASSERT_TRUE(matched) << "trial " << trial << ": brute force found (" << b.t1 << ", " << b.t2
+                           << "), solver has " << sol.count;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
 }
 
 }  // namespace

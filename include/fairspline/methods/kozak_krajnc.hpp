@@ -4,13 +4,15 @@
 // Theorems 2.4, 2.5).
 //
 // Each cubic piece P passes through four points T0..T3 at parameters 0 < t1 < t2 < 1 with end
-// derivatives α0·d0, α3·d3 (α > 0). This header has the data constants and the existence
-// conditions of Section 2; the single-piece solver and the spline sweeps of Section 4 build on
-// them (issue 5, in progress: no registered method yet).
+// derivatives α0·d0, α3·d3 (α > 0). This header has the data constants, the existence
+// conditions of Section 2 and Table 3.3, and the single-piece solver that finds *all* admissible
+// solutions; kozak_krajnc_spline.hpp has the spline sweeps of Section 4.
 #pragma once
 
+#include <array>
 #include <optional>
 
+#include "fairspline/cubic_bezier.hpp"
 #include "fairspline/vec2.hpp"
 
 namespace fairspline {
@@ -58,5 +60,48 @@ bool kozak_krajnc_theorem_2_4(const KozakKrajncConstants& c);
 /// Theorem 2.5 (inflection): λ1 > 0 > λ2, δ1, δ2 > 0, μ1 > 0 and φ3(λ1, λ2, μ1) < μ2 <
 /// φ4(λ1, λ2, μ1); with Remark 2.2, also the same with the roles of (λ1, μ1), (λ2, μ2) swapped.
 bool kozak_krajnc_theorem_2_5(const KozakKrajncConstants& c);
+
+/// Table 3.3: further sufficient conditions for the existence of P. Returns the row (1–8, top
+/// to bottom as read in docs/methods/kozak-krajnc.md) whose conditions hold, or 0.
+int kozak_krajnc_table_3_3(const KozakKrajncConstants& c);
+
+/// One admissible solution (t1, t2, α0, α3) ∈ D of (2.3)–(2.5): 0 < t1 < t2 < 1, α0, α3 > 0.
+/// α are relative to the direction vectors as given (P'(0) = α0·d0, P'(1) = α3·d3).
+struct KozakKrajncSolution {
+  double t1 = 0.0;
+  double t2 = 0.0;
+  double alpha0 = 0.0;
+  double alpha3 = 0.0;
+  /// Intersection multiplicity of the two curves (2.3) at (t1, t2): 1 when they cross
+  /// transversally; otherwise the order of contact, estimated numerically (see the docs).
+  int multiplicity = 1;
+  /// Linearized strain energy ∫₀¹ |P''(t)|² dt of the piece: the rule that picks one solution.
+  double energy = 0.0;
+};
+
+/// All admissible solutions of one piece (at most 9: the eliminated polynomial has degree 9).
+struct KozakKrajncSolutions {
+  static constexpr int kCapacity = 9;
+  std::array<KozakKrajncSolution, kCapacity> items{};
+  int count = 0;    ///< number of distinct admissible solutions, sorted by t1
+  int chosen = -1;  ///< index of the least-energy solution, −1 when there is none
+
+  const KozakKrajncSolution* begin() const { return items.data(); }
+  const KozakKrajncSolution* end() const { return items.data() + count; }
+  /// Sum of the multiplicities (odd under Theorems 2.4/2.5 by the degree argument of Section 3).
+  int total_multiplicity() const;
+};
+
+/// Every admissible solution of (2.3)–(2.5) for the points T0..T3 and end directions d0, d3
+/// (any length, not both needed unit). The system (2.3) is cleared of denominators, t1 is
+/// eliminated by the Bézout resultant (a degree-15 polynomial in t2 that always carries the
+/// spurious factor t2³(1−t2)³; the rest has degree ≤ 9), its real roots in (0, 1) are isolated in
+/// Bernstein form by Descartes' rule, t1 follows from the null vector of the Bézout matrix, and
+/// each pair is polished by Newton's method on (2.3). Throws what kozak_krajnc_constants throws.
+KozakKrajncSolutions kozak_krajnc_solve(Point t0, Point t1, Point t2, Point t3, Vec2 d0, Vec2 d3);
+
+/// The cubic of one solution: control points T0, T0 + α0·d0/3, T3 − α3·d3/3, T3.
+CubicBezier kozak_krajnc_bezier(Point t0, Point t3, Vec2 d0, Vec2 d3,
+                                const KozakKrajncSolution& solution);
 
 }  // namespace fairspline
