@@ -12,6 +12,7 @@ namespace fairspline::detail {
 std::vector<MethodInfo> li_methods();
 std::vector<MethodInfo> jaklic_zagar_methods();
 std::vector<MethodInfo> yong_cheng_methods();
+std::vector<MethodInfo> kozak_krajnc_methods();
 
 std::vector<MethodInfo> builtin_methods();
 

@@ -1,0 +1,1020 @@
+// Kozak–Krajnc, Section 4: sweeps, selection and the `kozak-krajnc` method.
+// See include/fairspline/methods/kozak_krajnc_spline.hpp and docs/methods/kozak-krajnc.md.
+#include "fairspline/methods/kozak_krajnc_spline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "detail/finite.hpp"
+#include "detail/input.hpp"
+#include "detail/tridiagonal.hpp"
+#include "fairspline/error.hpp"
+#include "fairspline/methods/kozak_krajnc.hpp"
+#include "fairspline/methods/yong_cheng.hpp"
+
+namespace fairspline {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string pt(std::size_t i) {
+  std::string s = std::to_string(i);
+  s.insert(s.begin(), 'T');  // (not "T" + …: GCC 12 warns -Wrestrict on that)
+  return s;
+}
+
+/// (aξ + b) / (cξ + d) on (0, 1), with no pole inside (0, 1).
+struct Mobius {
+  double a = 0, b = 0, c = 0, d = 0;
+
+  double operator()(double x) const { return (a * x + b) / (c * x + d); }
+  /// The limit at x from inside (0, 1): `from_above` = approaching from larger ξ.
+  double limit(double x, bool from_above) const {
+    const double num = a * x + b, den = c * x + d;
+    if (den != 0.0) return num / den;
+    const double s = (from_above ? 1.0 : -1.0) * (c > 0 ? 1.0 : -1.0);
+    return (num > 0 ? 1.0 : -1.0) * s * kInf;
+  }
+  /// Sign of the denominator on (0, 1).
+  double den_sign() const { return c * 0.5 + d > 0 ? 1.0 : -1.0; }
+
+  /// Image of an interval of ξ (monotone map).
+  XiInterval image(const XiInterval& x) const {
+    if (x.point) {
+      const double v = (*this)(x.lo);
+      return {v, v, true};
+    }
+    const double p = limit(x.lo, true), q = limit(x.hi, false);
+    return {std::min(p, q), std::max(p, q), false};
+  }
+  /// {ξ ∈ (0, 1) : lo < M(ξ) < hi} (open; lo = −∞ / hi = +∞ allowed).
+  XiInterval preimage(double lo, double hi) const {
+    double from = 0.0, to = 1.0;
+    const double s = den_sign();
+    auto half = [&](double k, double k0) {  // s·(kξ + k0) > 0
+      k *= s;
+      k0 *= s;
+      if (k > 0) {
+        from = std::max(from, -k0 / k);
+      } else if (k < 0) {
+        to = std::min(to, -k0 / k);
+      } else if (!(k0 > 0)) {
+        to = from;  // empty
+      }
+    };
+    if (lo > -kInf) half(a - lo * c, b - lo * d);
+    if (hi < kInf) half(hi * c - a, hi * d - b);
+    return {from, to, false};
+  }
+};
+
+bool empty(const XiInterval& x) {
+  return x.point ? false : !(x.lo < x.hi);
+}
+
+std::optional<XiInterval> intersect(const XiInterval& x, const XiInterval& y) {
+  if (x.point && y.point) {
+    if (x.lo == y.lo) return x;
+    return std::nullopt;
+  }
+  if (x.point || y.point) {
+    const XiInterval& p = x.point ? x : y;
+    const XiInterval& o = x.point ? y : x;
+    if (o.contains(p.lo)) return p;
+    return std::nullopt;
+  }
+  XiInterval r{std::max(x.lo, y.lo), std::min(x.hi, y.hi), false};
+  if (empty(r)) return std::nullopt;
+  return r;
+}
+
+/// Sorts and merges overlapping open intervals (touching ones stay apart: the point between is
+/// excluded).
+void normalize(XiSet& s) {
+  std::sort(s.begin(), s.end(), [](const auto& x, const auto& y) { return x.lo < y.lo; });
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (k > 0 && !s[k - 1].point && !s[i].point && s[i].lo < s[k - 1].hi) {
+      s[k - 1].hi = std::max(s[k - 1].hi, s[i].hi);
+    } else {
+      s[k++] = s[i];
+    }
+  }
+  s.resize(k);
+}
+
+/// Everything the sweeps need about T0..T3m, computed once.
+struct Geometry {
+  std::span<const Point> T;    ///< T0..T3m
+  std::span<const Point> all;  ///< T0..T3m and the remainder points that follow (if any)
+  std::size_t m = 0;
+  std::vector<Vec2> dT;
+  struct Piece {
+    double lambda1 = 0, lambda2 = 0;
+    bool convex = false;
+    double phi1 = 0, phi2 = 0;  // convex only
+    Mobius mu_left, mu_right;   // μ2ℓ−1(ξℓ−1), μ2ℓ(ξℓ)
+  };
+  std::vector<Piece> piece;  // 1-based: piece[0] unused
+  std::vector<Vec2> u, v;    // dℓ(ξ) = (1 − ξ) u + ξ v
+
+  double D(std::size_t i, std::size_t j) const { return cross(dT[i], dT[j]); }
+};
+
+Mobius mobius(double n0, double n1, double e0, double e1) {
+  return {n1 - n0, n0, e1 - e0, e0};
+}
+
+void require_nonzero(double value, std::size_t index, const char* what) {
+  if (value == 0.0) {
+    throw Error(ErrorCode::kInvalidArgument,
+                std::string("kozak-krajnc: ") + what + " (Theorem 4.1 needs it non-zero)", index);
+  }
+}
+
+/// `all` (optional) continues T with remainder points: then T3m is not the end of the curve and
+/// its direction is parameterized like an interior breakpoint of (4.1) (σ3m = +1 when ΔT3m+1
+/// does not exist), so that the curve can go on G1 past it.
+Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
+  Geometry g;
+  g.T = T;
+  g.all = all.size() > T.size() ? all : T;
+  g.m = (T.size() - 1) / 3;
+  const std::size_t m = g.m;
+  g.dT.resize(g.all.size() - 1);
+  for (std::size_t i = 0; i + 1 < g.all.size(); ++i) g.dT[i] = g.all[i + 1] - g.all[i];
+  const bool goes_on = g.all.size() > T.size();
+  g.u.resize(m + 1);
+  g.v.resize(m + 1);
+  for (std::size_t l = 1; l <= m; ++l) {  // assumptions of Theorem 4.1 on piece ℓ
+    const std::size_t k = 3 * l - 3;
+    require_nonzero(g.D(k, k + 1), k + 1,
+                    (pt(k) + ", " + pt(k + 1) + ", " + pt(k + 2) + " are collinear").c_str());
+    require_nonzero(g.D(k + 1, k + 2), k + 2,
+                    (pt(k + 1) + ", " + pt(k + 2) + ", " + pt(k + 3) + " are collinear").c_str());
+    require_nonzero(g.D(k, k + 2), k + 2,
+                    ("chords T" + std::to_string(k) + "T" + std::to_string(k + 1) + " and T" +
+                     std::to_string(k + 2) + "T" + std::to_string(k + 3) + " are parallel")
+                        .c_str());
+  }
+  for (std::size_t l = 1; l < m + (goes_on ? 1 : 0); ++l) {
+    require_nonzero(
+        g.D(3 * l - 1, 3 * l), 3 * l,
+        (pt(3 * l - 1) + ", " + pt(3 * l) + ", " + pt(3 * l + 1) + " are collinear").c_str());
+  }
+  // (4.1)
+  g.u[0] = -1.0 * g.dT[1];
+  g.v[0] = g.dT[0];
+  for (std::size_t l = 1; l < m; ++l) {
+    const std::size_t k = 3 * l;
+    const double sk = g.D(k - 1, k) * g.D(k, k + 1) > 0 ? 1.0 : -1.0;       // σ3ℓ
+    const double sk1 = g.D(k - 2, k - 1) * g.D(k - 1, k) > 0 ? 1.0 : -1.0;  // σ3ℓ−1
+    g.u[l] = sk * g.dT[k - 1];
+    g.v[l] = sk1 * g.dT[k];
+  }
+  if (goes_on) {
+    const std::size_t k = 3 * m;
+    const double sk = k + 1 < g.dT.size() && g.D(k - 1, k) * g.D(k, k + 1) < 0 ? -1.0 : 1.0;
+    const double sk1 = g.D(k - 2, k - 1) * g.D(k - 1, k) > 0 ? 1.0 : -1.0;
+    g.u[m] = sk * g.dT[k - 1];
+    g.v[m] = sk1 * g.dT[k];
+  } else {
+    g.u[m] = g.dT[3 * m - 1];
+    g.v[m] = -1.0 * g.dT[3 * m - 2];
+  }
+
+  g.piece.resize(m + 1);
+  for (std::size_t l = 1; l <= m; ++l) {
+    const std::size_t k = 3 * l - 3;
+    Geometry::Piece& p = g.piece[l];
+    p.lambda1 = g.D(k, k + 2) / g.D(k, k + 1);
+    p.lambda2 = g.D(k, k + 2) / g.D(k + 1, k + 2);
+    if (p.lambda1 < 0 && p.lambda2 < 0) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "kozak-krajnc: points " + pt(k) + ".." + pt(k + 3) +
+                      " turn by more than a half turn (λ" + std::to_string(2 * l - 1) + ", λ" +
+                      std::to_string(2 * l) +
+                      " < 0); the sweeps of Section 4 (Theorem 4.1) do not cover this piece",
+                  k);
+    }
+    p.convex = p.lambda1 > 0 && p.lambda2 > 0;
+    if (p.convex) {
+      p.phi1 = *kozak_krajnc_phi1(p.lambda1, p.lambda2);
+      p.phi2 = *kozak_krajnc_phi2(p.lambda1, p.lambda2);
+    }
+    // μ2ℓ−1(ξ) = det(dℓ−1, ΔTk+1) / det(dℓ−1, ΔTk); μ2ℓ(ξ) = det(ΔTk+1, dℓ) / det(ΔTk+2, dℓ).
+    const Vec2 ul = g.u[l - 1], vl = g.v[l - 1], ur = g.u[l], vr = g.v[l];
+    p.mu_left = mobius(cross(ul, g.dT[k + 1]), cross(vl, g.dT[k + 1]), cross(ul, g.dT[k]),
+                       cross(vl, g.dT[k]));
+    p.mu_right = mobius(cross(g.dT[k + 1], ur), cross(g.dT[k + 1], vr), cross(g.dT[k + 2], ur),
+                        cross(g.dT[k + 2], vr));
+  }
+  return g;
+}
+
+/// μ2ℓ-values with an admissible partner in the μ2ℓ−1-interval `mu` (ForwardSplit's J).
+void forward_partners(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
+  if (p.convex) {
+    const double lo = mu.lo, hi = mu.hi;
+    const bool below = mu.point ? (lo > 0 && lo < p.phi1) : (lo < p.phi1 && hi > 0);
+    const bool above = mu.point ? lo > p.phi1 : hi > p.phi1;
+    if (below) out.push_back({0.0, p.phi2, false});
+    if (above) out.push_back({p.phi2, kInf, false});
+    return;
+  }
+  const auto r = p.lambda1 > 0 ? kozak_krajnc_r1(mu, p.lambda1, p.lambda2)
+                               : kozak_krajnc_r2(mu, p.lambda2, p.lambda1);
+  if (r) out.push_back(*r);
+}
+
+/// μ2ℓ−1-values with an admissible partner in the μ2ℓ-interval `mu` (BackwardSplit's J).
+void backward_partners(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
+  if (p.convex) {
+    const double lo = mu.lo, hi = mu.hi;
+    const bool below = mu.point ? (lo > 0 && lo < p.phi2) : (lo < p.phi2 && hi > 0);
+    const bool above = mu.point ? lo > p.phi2 : hi > p.phi2;
+    if (below) out.push_back({0.0, p.phi1, false});
+    if (above) out.push_back({p.phi1, kInf, false});
+    return;
+  }
+  const auto r = p.lambda1 > 0 ? kozak_krajnc_r2(mu, p.lambda1, p.lambda2)
+                               : kozak_krajnc_r1(mu, p.lambda2, p.lambda1);
+  if (r) out.push_back(*r);
+}
+
+/// {ξ ∈ base : M(ξ) ∈ J} for a set J of open μ-intervals.
+XiSet pull_back(const Mobius& M, const XiSet& J, const XiSet& base) {
+  XiSet out;
+  for (const XiInterval& j : J) {
+    const XiInterval pre = M.preimage(j.lo, j.hi);
+    if (empty(pre)) continue;
+    for (const XiInterval& b : base) {
+      if (auto x = intersect(pre, b)) out.push_back(*x);
+    }
+  }
+  normalize(out);
+  return out;
+}
+
+std::string describe(const XiSet& s) {
+  std::string r;
+  for (const XiInterval& x : s) {
+    if (!r.empty()) r += " ∪ ";
+    r += x.point ? "{" + std::to_string(x.lo) + "}"
+                 : "(" + std::to_string(x.lo) + ", " + std::to_string(x.hi) + ")";
+  }
+  return r.empty() ? "∅" : r;
+}
+
+/// A point of one component of `s`: the component containing `guide`, else the one nearest to
+/// it (without a guide, NaN: the longest one). In it, the γ-point; with gamma = NaN ("auto") the
+/// guide itself, kept 10% of the component's width away from its ends.
+double pick(const XiSet& s, double gamma, double guide) {
+  const XiInterval* best = &s.front();
+  double best_key = kInf;
+  for (const XiInterval& x : s) {
+    double key;
+    if (std::isnan(guide)) {
+      key = x.point ? 0.0 : -(x.hi - x.lo);
+    } else {
+      key = x.contains(guide) ? -1.0 : std::min(std::abs(guide - x.lo), std::abs(guide - x.hi));
+    }
+    if (key < best_key) best_key = key, best = &x;
+  }
+  if (!std::isnan(gamma) || best->point) return best->at(std::isnan(gamma) ? 0.5 : gamma);
+  if (std::isnan(guide)) return best->at(0.5);
+  const double margin = 0.1 * (best->hi - best->lo);
+  return std::clamp(guide, best->lo + margin, best->hi - margin);
+}
+
+}  // namespace
+
+std::optional<XiInterval> kozak_krajnc_r1(XiInterval mu, double lambda1, double lambda2) {
+  const double a = std::max(mu.lo, 0.0), b = mu.hi;
+  if (b <= 0.0 || (mu.point && mu.lo <= 0.0)) return std::nullopt;
+  const double lo = kozak_krajnc_phi3(lambda1, lambda2, a);
+  const double hi = b == kInf ? (1.0 + 2.0 * lambda1) / (lambda1 * lambda1)
+                              : kozak_krajnc_phi4(lambda1, lambda2, b);
+  if (!(lo < hi)) return std::nullopt;
+  return XiInterval{lo, hi, false};
+}
+
+std::optional<XiInterval> kozak_krajnc_r2(XiInterval mu, double lambda1, double lambda2) {
+  const double a = std::max(mu.lo, 0.0), b = mu.hi;
+  if (b <= 0.0 || (mu.point && mu.lo <= 0.0)) return std::nullopt;
+  if (a >= (1.0 + 2.0 * lambda1) / (lambda1 * lambda1)) return std::nullopt;
+  const double lo = kozak_krajnc_phi3(lambda2, lambda1, a);
+  const double hi = b < 1.0 / lambda1 ? kozak_krajnc_phi4(lambda2, lambda1, b) : kInf;
+  if (!(lo < hi)) return std::nullopt;
+  return XiInterval{lo, hi, false};
+}
+
+namespace {
+
+KozakKrajncSweep sweep(const Geometry& g, std::span<const std::optional<double>> fixed) {
+  const std::size_t m = g.m;
+  KozakKrajncSweep s;
+  s.pieces = m;
+  s.I.resize(m + 1);
+  // Iℓ: both μ at breakpoint ℓ positive.
+  for (std::size_t l = 0; l <= m; ++l) {
+    XiInterval I{0.0, 1.0, false};
+    if (l >= 1) {
+      if (auto x = intersect(I, g.piece[l].mu_right.preimage(0.0, kInf))) {
+        I = *x;
+      } else {
+        I = {1.0, 0.0, false};
+      }
+    }
+    if (l < m && !empty(I)) {
+      if (auto x = intersect(I, g.piece[l + 1].mu_left.preimage(0.0, kInf))) {
+        I = *x;
+      } else {
+        I = {1.0, 0.0, false};
+      }
+    }
+    if (empty(I)) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: no tangent direction at " + pt(3 * l) + " makes both constants μ" +
+                      std::to_string(2 * l) + ", μ" + std::to_string(2 * l + 1) +
+                      " positive ((4.4)-(4.6) hold): the admissible set is empty there",
+                  3 * l);
+    }
+    s.I[l] = I;
+  }
+  auto base = [&](std::size_t l) {
+    XiSet b{s.I[l]};
+    if (l < fixed.size() && fixed[l]) {
+      const XiInterval p{*fixed[l], *fixed[l], true};
+      if (!s.I[l].contains(*fixed[l])) {
+        throw Error(ErrorCode::kInfeasible,
+                    "kozak-krajnc: the prescribed tangent at " + pt(3 * l) +
+                        " (ξ = " + std::to_string(*fixed[l]) +
+                        ") makes a constant μ non-positive; Iℓ = " + describe(b),
+                    3 * l);
+      }
+      b = {p};
+    }
+    return b;
+  };
+  s.forward.resize(m + 1);
+  s.forward[0] = base(0);
+  for (std::size_t l = 1; l <= m; ++l) {
+    const Geometry::Piece& p = g.piece[l];
+    XiSet J;
+    for (const XiInterval& x : s.forward[l - 1]) forward_partners(p, p.mu_left.image(x), J);
+    normalize(J);
+    s.forward[l] = pull_back(p.mu_right, J, base(l));
+    if (s.forward[l].empty()) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: the forward sweep found no admissible tangent direction at " +
+                      pt(3 * l) + ": the admissible set became empty at piece " +
+                      std::to_string(l) + " (" + pt(3 * l - 3) + ".." + pt(3 * l) + "); Ξ" +
+                      std::to_string(l - 1) + " = " + describe(s.forward[l - 1]),
+                  3 * l - 3);
+    }
+  }
+  s.xi = s.forward;
+  for (std::size_t l = m; l >= 1; --l) {
+    const Geometry::Piece& p = g.piece[l];
+    XiSet J;
+    for (const XiInterval& x : s.xi[l]) backward_partners(p, p.mu_right.image(x), J);
+    normalize(J);
+    s.xi[l - 1] = pull_back(p.mu_left, J, s.forward[l - 1]);
+    if (s.xi[l - 1].empty()) {  // only by rounding at an interval end
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: the backward sweep emptied Ξ" + std::to_string(l - 1) + " at " +
+                      pt(3 * l - 3) + " (rounding at an end of the admissible interval)",
+                  3 * l - 3);
+    }
+  }
+  return s;
+}
+
+/// Tangent of the parabola through T[i−1], T[i], T[i+1] (or the first/last three points at the
+/// ends) at T[i], with uniform or chord-length parameters.
+Vec2 local_quadratic_direction(std::span<const Point> T, std::size_t i, bool chordal) {
+  const std::size_t n = T.size();
+  const std::size_t c = i == 0 ? 1 : (i + 1 == n ? n - 2 : i);
+  const Point a = T[c - 1], b = T[c], e = T[c + 1];
+  const double h0 = chordal ? norm(b - a) : 1.0, h1 = chordal ? norm(e - b) : 1.0, h = h0 + h1;
+  if (i == 0) return (-(2 * h0 + h1) / (h0 * h)) * a + (h / (h0 * h1)) * b + (-h0 / (h1 * h)) * e;
+  if (i + 1 == n)
+    return (h1 / (h0 * h)) * a + (-h / (h0 * h1)) * b + ((2 * h1 + h0) / (h1 * h)) * e;
+  return (-h1 / (h0 * h)) * a + ((h1 - h0) / (h0 * h1)) * b + (h0 / (h1 * h)) * e;
+}
+
+std::optional<double> xi_of(const Geometry& g, std::size_t l, Vec2 direction) {
+  const Vec2 u = g.u[l], v = g.v[l];
+  // cross((1 − ξ)u + ξv, d) = 0.
+  const double cu = cross(u, direction), cv = cross(v, direction);
+  if (cu == cv) return std::nullopt;
+  const double xi = cu / (cu - cv);
+  if (!(xi > 0.0 && xi < 1.0)) return std::nullopt;
+  if (!(dot((1.0 - xi) * u + xi * v, direction) > 0.0)) return std::nullopt;
+  return xi;
+}
+
+/// The ξ of the chord-length parabola's tangent at each breakpoint (NaN outside the cone (4.1)):
+/// the guide that picks a component when Ξ splits.
+std::vector<double> quadratic_guide(const Geometry& g) {
+  std::vector<double> guide(g.m + 1);
+  for (std::size_t l = 0; l <= g.m; ++l) {
+    guide[l] = xi_of(g, l, local_quadratic_direction(g.all, 3 * l, true))
+                   .value_or(std::numeric_limits<double>::quiet_NaN());
+  }
+  return guide;
+}
+
+std::vector<double> select(const Geometry& g, const KozakKrajncSweep& s, double gamma) {
+  const std::vector<double> guide = quadratic_guide(g);
+  std::vector<double> xi(g.m + 1);
+  xi[0] = pick(s.xi[0], gamma, guide[0]);
+  for (std::size_t l = 1; l <= g.m; ++l) {
+    const Geometry::Piece& p = g.piece[l];
+    XiSet J;
+    forward_partners(p, p.mu_left.image({xi[l - 1], xi[l - 1], true}), J);
+    normalize(J);
+    const XiSet C = pull_back(p.mu_right, J, s.xi[l]);
+    if (C.empty()) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: no admissible ξ at " + pt(3 * l) + " for the chosen ξ at " +
+                      pt(3 * l - 3) + " (rounding at an end of the admissible interval)",
+                  3 * l);
+    }
+    xi[l] = pick(C, gamma, guide[l]);
+  }
+  return xi;
+}
+
+}  // namespace
+
+KozakKrajncSweep kozak_krajnc_sweep(std::span<const Point> points,
+                                    std::span<const std::optional<double>> fixed) {
+  if (points.size() < 4 || (points.size() - 1) % 3 != 0) {
+    throw Error(ErrorCode::kWrongPointCount,
+                "kozak-krajnc: the sweeps need 3m+1 points, got " + std::to_string(points.size()));
+  }
+  return sweep(geometry(points), fixed);
+}
+
+std::vector<double> kozak_krajnc_select(std::span<const Point> points,
+                                        const KozakKrajncSweep& sweep, double gamma) {
+  return select(geometry(points), sweep, gamma);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The method.
+
+namespace {
+
+Vec2 unit(Vec2 v) {
+  return (1.0 / norm(v)) * v;
+}
+
+struct PieceFit {
+  KozakKrajncSolutions all;
+  KozakKrajncSolution s;
+  Vec2 d0, d3;  // unit
+  CubicBezier c;
+};
+
+/// Solves piece ℓ for unit directions d0, d3; with `near`, continues that branch (nearest
+/// (t1, t2)) instead of taking the least-energy solution. False when it has no solution.
+bool solve_piece(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3, const PieceFit* near,
+                 PieceFit& out) {
+  const std::size_t k = 3 * l - 3;
+  out.d0 = d0;
+  out.d3 = d3;
+  out.all = kozak_krajnc_solve(g.T[k], g.T[k + 1], g.T[k + 2], g.T[k + 3], d0, d3);
+  if (out.all.count == 0) return false;
+  int best = out.all.chosen;
+  if (near) {
+    double dist = kInf;
+    for (int i = 0; i < out.all.count; ++i) {
+      const auto& s = out.all.items[i];
+      const double d = std::abs(s.t1 - near->s.t1) + std::abs(s.t2 - near->s.t2);
+      if (d < dist) dist = d, best = i;
+    }
+  }
+  out.s = out.all.items[best];
+  out.c = kozak_krajnc_bezier(g.T[k], g.T[k + 3], d0, d3, out.s);
+  return true;
+}
+
+Vec2 direction(const Geometry& g, std::size_t l, double xi) {
+  return unit((1.0 - xi) * g.u[l] + xi * g.v[l]);
+}
+
+bool admissible(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3) {
+  const std::size_t k = 3 * l - 3;
+  const KozakKrajncConstants c =
+      kozak_krajnc_constants(g.T[k], g.T[k + 1], g.T[k + 2], g.T[k + 3], d0, d3);
+  return kozak_krajnc_theorem_2_4(c) || kozak_krajnc_theorem_2_5(c);
+}
+
+/// Result of the optional G2 Newton iteration on (1.4).
+struct G2Report {
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0.0;
+  std::string reason;
+};
+
+/// (1.4) as a curvature jump, made dimensionless by the local chord length.
+double g2_residual(const Geometry& g, std::size_t l, const PieceFit& left, const PieceFit& right) {
+  const double len = 0.5 * (norm(g.dT[3 * l - 1]) + norm(g.dT[3 * l]));
+  return (left.c.curvature(1.0) - right.c.curvature(0.0)) * len;
+}
+
+G2Report solve_g2(const Geometry& g, std::vector<double>& xi, std::span<const bool> pinned,
+                  int max_iterations, std::vector<PieceFit>& pieces) {
+  G2Report rep;
+  const std::size_t m = g.m;
+  if (m < 2) {
+    rep.converged = true;
+    return rep;
+  }
+  // Evaluates every piece for `x` (continuing the branches of `ref`) and the residuals.
+  auto evaluate = [&](const std::vector<double>& x, const std::vector<PieceFit>& ref,
+                      std::vector<PieceFit>& fit, std::vector<double>& r) {
+    fit.resize(m + 1);
+    r.assign(m + 1, 0.0);
+    for (std::size_t l = 1; l <= m; ++l) {
+      if (!(x[l - 1] > 0.0 && x[l - 1] < 1.0 && x[l] > 0.0 && x[l] < 1.0)) return false;
+      const Vec2 d0 = direction(g, l - 1, x[l - 1]), d3 = direction(g, l, x[l]);
+      if (!solve_piece(g, l, d0, d3, &ref[l], fit[l])) return false;
+    }
+    for (std::size_t l = 1; l < m; ++l) {
+      if (!pinned[l]) r[l] = g2_residual(g, l, fit[l], fit[l + 1]);
+    }
+    return true;
+  };
+  auto max_abs = [](const std::vector<double>& r) {
+    double v = 0.0;
+    for (double x : r) v = std::max(v, std::abs(x));
+    return v;
+  };
+  std::vector<double> r, rp, sub(m - 1), diag(m - 1), super(m - 1), scratch;
+  std::vector<Vec2> rhs(m - 1);
+  std::vector<PieceFit> trial;
+  if (!evaluate(xi, pieces, pieces, r)) {
+    rep.reason = "the G1 solution could not be re-evaluated";
+    return rep;
+  }
+  const double h = 1e-7;
+  for (rep.iterations = 0; rep.iterations < max_iterations; ++rep.iterations) {
+    rep.residual = max_abs(r);
+    if (rep.residual <= 1e-10) {
+      rep.converged = true;
+      return rep;
+    }
+    // Tridiagonal Jacobian by finite differences, three colours (ξ indices mod 3).
+    std::fill(sub.begin(), sub.end(), 0.0);
+    std::fill(super.begin(), super.end(), 0.0);
+    for (std::size_t l = 1; l < m; ++l) diag[l - 1] = pinned[l] ? 1.0 : 0.0;
+    for (std::size_t colour = 0; colour < 3; ++colour) {
+      std::vector<double> x = xi;
+      bool any = false;
+      for (std::size_t j = 1; j < m; ++j) {
+        if (j % 3 == colour && !pinned[j]) x[j] += h, any = true;
+      }
+      if (!any) continue;
+      if (!evaluate(x, pieces, trial, rp)) {
+        rep.reason = "a finite-difference step left the directions with admissible pieces";
+        return rep;
+      }
+      for (std::size_t l = 1; l < m; ++l) {
+        if (pinned[l]) continue;
+        for (std::size_t j = l - 1; j <= l + 1; ++j) {
+          if (j < 1 || j >= m || j % 3 != colour || pinned[j]) continue;
+          const double dr = (rp[l] - r[l]) / h;
+          if (j + 1 == l) sub[l - 1] = dr;
+          if (j == l) diag[l - 1] = dr;
+          if (j == l + 1) super[l - 1] = dr;
+        }
+      }
+    }
+    for (std::size_t l = 1; l < m; ++l) rhs[l - 1] = {-r[l], 0.0};
+    if (!detail::solve_tridiagonal(sub, diag, super, rhs, scratch)) {
+      rep.reason = "singular Jacobian";
+      return rep;
+    }
+    double step = 1.0;
+    bool accepted = false;
+    for (int half = 0; half < 30 && !accepted; ++half, step *= 0.5) {
+      std::vector<double> x = xi;
+      for (std::size_t l = 1; l < m; ++l) x[l] += step * rhs[l - 1].x;
+      if (evaluate(x, pieces, trial, rp) && max_abs(rp) < (1.0 - 1e-4 * step) * rep.residual) {
+        xi = x;
+        pieces.swap(trial);
+        r.swap(rp);
+        accepted = true;
+      }
+    }
+    if (!accepted) {
+      rep.reason = "no step that keeps every piece admissible reduces the curvature jumps";
+      rep.residual = max_abs(r);
+      return rep;
+    }
+  }
+  rep.residual = max_abs(r);
+  rep.converged = rep.residual <= 1e-10;
+  if (!rep.converged) rep.reason = "iteration limit reached";
+  return rep;
+}
+
+nlohmann::json interval_json(const XiInterval& x) {
+  return nlohmann::json::array({x.lo, x.hi});
+}
+
+nlohmann::json set_json(const XiSet& s) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const XiInterval& x : s) a.push_back(interval_json(x));
+  return a;
+}
+
+nlohmann::json solution_json(const KozakKrajncSolution& s) {
+  return {{"t1", s.t1},
+          {"t2", s.t2},
+          {"alpha0", s.alpha0},
+          {"alpha3", s.alpha3},
+          {"multiplicity", s.multiplicity},
+          {"energy", s.energy}};
+}
+
+const char* tangents_name(KozakKrajncTangents t) {
+  switch (t) {
+    case KozakKrajncTangents::kSweep:
+      return "sweep";
+    case KozakKrajncTangents::kLocalQuadraticUniform:
+      return "local-quadratic-uniform";
+    case KozakKrajncTangents::kLocalQuadraticChordal:
+      return "local-quadratic-chordal";
+  }
+  return "sweep";
+}
+
+}  // namespace
+
+void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, ReportLevel level,
+                      FitResult& out) {
+  detail::prepare_input(input, {4, 4, "kozak-krajnc"}, out);
+  if (out.closed) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "kozak-krajnc interpolates open curves only: the sweeps of Section 4 run from "
+                "T0 to T3m with free end directions");
+  }
+  if (!std::isnan(options.gamma) && !(options.gamma >= 0.0 && options.gamma <= 1.0)) {
+    throw Error(ErrorCode::kBadOption, "kozak-krajnc: gamma must lie in [0, 1]");
+  }
+  const std::size_t n = out.points.size();
+  const std::size_t rest = (n - 1) % 3;
+  if (rest != 0 && !options.remainder_hermite) {
+    throw Error(ErrorCode::kWrongPointCount,
+                "kozak-krajnc needs 3m+1 points (4, 7, 10, ...) because each cubic passes "
+                "through four consecutive points; got " +
+                    std::to_string(n) + ". Drop " + std::to_string(rest) +
+                    " point(s) or set remainder=hermite to finish the last span(s) with G1 "
+                    "Hermite cubics",
+                n - 1);
+  }
+  const std::size_t nk = n - rest;  // points covered by Kozak–Krajnc pieces
+  for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
+    if (input.kinds[i] == PointKind::kCorner) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "point " + std::to_string(i) +
+                      " is a corner, but kozak-krajnc builds one G1 curve; split the input there",
+                  i);
+    }
+  }
+  const std::span<const Point> T(out.points.data(), nk);
+  const Geometry g = geometry(T, out.points);
+  const std::size_t m = g.m;
+
+  // Prescribed directions: per-point tangents at breakpoints, start/end tangents.
+  std::vector<std::optional<Vec2>> given(n);
+  for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) given[i] = input.tangents[i];
+  if (input.start_tangent) given[0] = input.start_tangent;
+  if (input.end_tangent) given[n - 1] = input.end_tangent;
+  std::vector<std::optional<double>> fixed(m + 1);
+  for (std::size_t i = 0; i < nk; ++i) {
+    if (!given[i]) continue;
+    if (i % 3 != 0) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "kozak-krajnc: a tangent is given at " + pt(i) +
+                      ", which lies inside a cubic piece (only every third point T3ℓ is a "
+                      "breakpoint with a free direction)",
+                  i);
+    }
+    const auto x = xi_of(g, i / 3, *given[i]);
+    if (!x) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: the tangent given at " + pt(i) +
+                      " lies outside the cone of directions (4.1) that the sweeps can admit there",
+                  i);
+    }
+    fixed[i / 3] = *x;
+  }
+  const KozakKrajncSweep sw = sweep(g, fixed);
+
+  std::vector<double> xi;
+  if (options.tangents == KozakKrajncTangents::kSweep) {
+    xi = select(g, sw, options.gamma);
+  } else {
+    const bool chordal = options.tangents == KozakKrajncTangents::kLocalQuadraticChordal;
+    xi.resize(m + 1);
+    for (std::size_t l = 0; l <= m; ++l) {
+      if (fixed[l]) {
+        xi[l] = *fixed[l];
+        continue;
+      }
+      const std::size_t i = 3 * l;
+      const auto x = xi_of(g, l, local_quadratic_direction(g.all, i, chordal));
+      if (!x) {
+        throw Error(ErrorCode::kInfeasible,
+                    std::string("kozak-krajnc: the ") + tangents_name(options.tangents) +
+                        " direction at " + pt(i) +
+                        " lies outside the cone of directions (4.1) admitted there; use "
+                        "tangents=sweep",
+                    i);
+      }
+      xi[l] = *x;
+    }
+  }
+  // Membership of the chosen ξ in the swept sets (always true for tangents=sweep).
+  std::vector<char> in_xi(m + 1, 0);
+  for (std::size_t l = 0; l <= m; ++l) {
+    for (const XiInterval& c : sw.xi[l]) in_xi[l] = in_xi[l] || c.contains(xi[l]);
+  }
+
+  std::vector<PieceFit> pieces(m + 1);
+  for (std::size_t l = 1; l <= m; ++l) {
+    if (!solve_piece(g, l, direction(g, l - 1, xi[l - 1]), direction(g, l, xi[l]), nullptr,
+                     pieces[l])) {
+      const bool outside = !in_xi[l - 1] || !in_xi[l];
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." +
+                      pt(3 * l) + ") has no admissible solution for the " +
+                      tangents_name(options.tangents) + " directions" +
+                      (outside ? std::string(" (they lie outside the swept sets Ξ: ") +
+                                     pt(3 * l - 3) + " " + describe(sw.xi[l - 1]) + ", " +
+                                     pt(3 * l) + " " + describe(sw.xi[l]) + "); use tangents=sweep"
+                       : admissible(g, l, pieces[l].d0, pieces[l].d3)
+                           ? std::string(" although they satisfy the theorems "
+                                         "(numerically borderline data)")
+                           : std::string(" (each lies in its swept set Ξ but the pair "
+                                         "fails Theorems 2.4/2.5); use tangents=sweep")),
+                  3 * l - 3);
+    }
+  }
+  G2Report g2;
+  std::string g2_start;
+  if (options.g2) {
+    // Newton from the G1 solution; Newton is local, so if that start fails, the directions of
+    // the local parabolas are tried as further starts (reported as "start").
+    std::unique_ptr<bool[]> pinned(new bool[m + 1]);
+    for (std::size_t l = 0; l <= m; ++l) pinned[l] = l == 0 || l == m || fixed[l].has_value();
+    for (const char* start : {"g1", "local-quadratic-chordal", "local-quadratic-uniform"}) {
+      std::vector<double> x = xi;
+      std::vector<PieceFit> p = pieces;
+      if (std::string(start) != "g1") {
+        const bool chordal = std::string(start) == "local-quadratic-chordal";
+        bool ok = true;
+        for (std::size_t l = 0; l <= m && ok; ++l) {
+          if (fixed[l]) continue;
+          const auto q = xi_of(g, l, local_quadratic_direction(g.all, 3 * l, chordal));
+          ok = q.has_value();
+          if (ok) x[l] = *q;
+        }
+        for (std::size_t l = 1; l <= m && ok; ++l) {
+          ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), nullptr,
+                           p[l]);
+        }
+        if (!ok) continue;
+      }
+      const G2Report attempt =
+          solve_g2(g, x, std::span<const bool>(pinned.get(), m + 1), options.g2_max_iterations, p);
+      if (g2_start.empty() || attempt.converged) g2 = attempt, g2_start = start;
+      if (attempt.converged) {
+        xi = x;
+        pieces = std::move(p);
+        for (std::size_t l = 0; l <= m; ++l) {
+          in_xi[l] = 0;
+          for (const XiInterval& c : sw.xi[l]) in_xi[l] = in_xi[l] || c.contains(xi[l]);
+        }
+        break;
+      }
+    }
+  }
+
+  // Output: each piece split at t1, t2 into one Bézier per span.
+  out.spline.closed = false;
+  out.spline.segments.clear();
+  out.spline.segments.reserve(n - 1);
+  out.tangents.resize(n);
+  std::vector<double> knots = out.knots;
+  for (std::size_t l = 1; l <= m; ++l) {
+    const std::size_t k = 3 * l - 3;
+    const PieceFit& p = pieces[l];
+    const double t[4] = {0.0, p.s.t1, p.s.t2, 1.0};
+    const double u0 = knots[k], u3 = knots[k + 3];
+    for (int i = 0; i < 3; ++i) {
+      const double ta = u0 + t[i] * (u3 - u0), tb = u0 + t[i + 1] * (u3 - u0);
+      out.knots[k + i] = ta;
+      out.spline.segments.push_back({p.c.subsegment(t[i], t[i + 1]), ta, tb, k + i});
+      out.tangents[k + i] = i == 0 ? p.d0 : unit(p.c.d1(t[i]));
+    }
+  }
+  out.knots[nk - 1] = knots[nk - 1];
+  out.tangents[nk - 1] = pieces[m].d3;
+  // Remainder: G1 Hermite curves through the last one or two spans.
+  int remainder_pieces = 0;
+  if (rest != 0) {
+    std::vector<Vec2> d(n);
+    d[nk - 1] = pieces[m].d3;
+    const std::span<const Point> all(out.points.data(), n);
+    for (std::size_t i = nk; i < n; ++i) {
+      d[i] = given[i] ? unit(*given[i]) : unit(local_quadratic_direction(all, i, true));
+    }
+    for (std::size_t i = nk - 1; i + 1 < n; ++i) {
+      // Yong–Cheng's composite optimized geometric Hermite curve: one OGH cubic, or two or three
+      // when the directions would give a loop, cusp or fold (any angles allowed).
+      const CohCurve c = coh_curve(out.points[i], out.points[i + 1], d[i], d[i + 1]);
+      const double ta = out.knots[i], tb = out.knots[i + 1];
+      for (int k = 0; k < c.count; ++k) {
+        out.spline.segments.push_back(
+            {c.pieces[k], ta + (tb - ta) * k / c.count, ta + (tb - ta) * (k + 1) / c.count, i});
+      }
+      out.tangents[i + 1] = d[i + 1];
+      remainder_pieces += c.count;
+    }
+  }
+  for (const Segment& s : out.spline.segments) {
+    for (const Point& q : s.bezier.p) {
+      if (!is_finite(q)) {
+        throw Error(ErrorCode::kNonFinite,
+                    "kozak-krajnc: a control point overflowed on span " + std::to_string(s.span),
+                    s.span);
+      }
+    }
+  }
+
+  out.method_report = nlohmann::json::object();
+  out.method_report["pieces"] = m;
+  if (level == ReportLevel::kNone) return;
+  nlohmann::json segs = nlohmann::json::array();
+  for (std::size_t l = 1; l <= m; ++l) {
+    const PieceFit& p = pieces[l];
+    nlohmann::json sols = nlohmann::json::array();
+    for (const KozakKrajncSolution& s : p.all) sols.push_back(solution_json(s));
+    nlohmann::json j = solution_json(p.s);
+    j["points"] = {3 * l - 3, 3 * l};
+    j["solutions"] = sols;
+    j["xi"] = {xi[l - 1], xi[l]};
+    j["convex"] = g.piece[l].convex;
+    j["lambda"] = {g.piece[l].lambda1, g.piece[l].lambda2};
+    j["theorem"] = admissible(g, l, p.d0, p.d3);
+    segs.push_back(j);
+  }
+  out.method_report["segments"] = segs;
+  nlohmann::json bps = nlohmann::json::array();
+  for (std::size_t l = 0; l <= m; ++l) {
+    bps.push_back({{"point", 3 * l},
+                   {"xi", xi[l]},
+                   {"Xi", set_json(sw.xi[l])},
+                   {"Xi_forward", set_json(sw.forward[l])},
+                   {"I", interval_json(sw.I[l])},
+                   {"in_Xi", in_xi[l] != 0},
+                   {"prescribed", fixed[l].has_value()}});
+  }
+  out.method_report["breakpoints"] = bps;
+  out.method_report["tangents"] = tangents_name(options.tangents);
+  out.method_report["gamma"] =
+      std::isnan(options.gamma) ? nlohmann::json("auto") : nlohmann::json(options.gamma);
+  if (rest != 0) {
+    out.method_report["remainder"] = {{"spans", rest},
+                                      {"first_point", nk - 1},
+                                      {"construction", "yong-cheng-coh"},
+                                      {"pieces", remainder_pieces}};
+  }
+  if (options.g2) {
+    out.method_report["g2"] = {{"converged", g2.converged},
+                               {"iterations", g2.iterations},
+                               {"max_scaled_curvature_jump", g2.residual},
+                               {"reason", g2.reason},
+                               {"start", g2_start}};
+  }
+}
+
+Vec2 kozak_krajnc_direction(std::span<const Point> points, std::size_t breakpoint, double xi) {
+  const Geometry g = geometry(points);
+  return (1.0 - xi) * g.u[breakpoint] + xi * g.v[breakpoint];
+}
+
+std::optional<double> kozak_krajnc_xi_of(std::span<const Point> points, std::size_t breakpoint,
+                                         Vec2 direction) {
+  return xi_of(geometry(points), breakpoint, direction);
+}
+
+bool kozak_krajnc_piece_admissible(std::span<const Point> points, std::size_t piece, double xi_left,
+                                   double xi_right) {
+  const Geometry g = geometry(points);
+  const std::size_t k = 3 * piece - 3;
+  const Vec2 d0 = (1.0 - xi_left) * g.u[piece - 1] + xi_left * g.v[piece - 1];
+  const Vec2 d3 = (1.0 - xi_right) * g.u[piece] + xi_right * g.v[piece];
+  const KozakKrajncConstants c =
+      kozak_krajnc_constants(points[k], points[k + 1], points[k + 2], points[k + 3], d0, d3);
+  return kozak_krajnc_theorem_2_4(c) || kozak_krajnc_theorem_2_5(c);
+}
+
+FitResult fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options,
+                           ReportLevel level) {
+  FitResult result;
+  fit_kozak_krajnc(input, options, level, result);
+  return result;
+}
+
+}  // namespace fairspline
+
+// ---- registry entry ----
+#include "methods/builtin.hpp"
+
+namespace fairspline::detail {
+
+std::vector<MethodInfo> kozak_krajnc_methods() {
+  MethodInfo m{
+      "kozak-krajnc",
+      "G1 cubic spline through 3m+1 points, each cubic through four consecutive points at "
+      "unknown parameters; tangent directions from the admissible sets of the forward/backward "
+      "sweeps, so that every piece provably exists.",
+      "J. Kozak, M. Krajnc, Geometric interpolation by planar cubic G1 splines, BIT 47 (2007), "
+      "Sections 2-4",
+      {OptionSpec{"gamma",
+                  OptionType::kChoiceOrNumber,
+                  0.5,
+                  0.0,
+                  1.0,
+                  {"auto"},
+                  "place each free ξ at γ·inf Ξ + (1−γ)·sup Ξ of its admissible interval (the "
+                  "paper's rule); auto: at the direction of the chord-length parabola through "
+                  "the breakpoint and its neighbours, kept inside Ξ (fairer curves when Ξ is "
+                  "wide)"},
+       OptionSpec{"tangents",
+                  OptionType::kChoice,
+                  "sweep",
+                  std::nullopt,
+                  std::nullopt,
+                  {"sweep", "local-quadratic-uniform", "local-quadratic-chordal"},
+                  "sweep: ξ placed by gamma; local-quadratic-*: directions of the parabola "
+                  "through each breakpoint and its neighbours (uniform or chord-length "
+                  "parameters), checked against the admissible sets (error if outside)"},
+       OptionSpec{"remainder",
+                  OptionType::kChoice,
+                  "error",
+                  std::nullopt,
+                  std::nullopt,
+                  {"error", "hermite"},
+                  "point counts other than 3m+1: error, or finish the last one or two spans "
+                  "with G1 Hermite curves (Yong–Cheng composite OGH cubics; directions of the "
+                  "chord-length parabola, the given end tangent if any)"},
+       OptionSpec{"g2",
+                  OptionType::kBoolean,
+                  false,
+                  std::nullopt,
+                  std::nullopt,
+                  {},
+                  "solve (1.4) for G2 continuity at the interior breakpoints by Newton's method "
+                  "from the G1 solution, inside the admissible sets; the report says whether it "
+                  "converged (if not, the G1 spline is returned)"},
+       OptionSpec{"g2_max_iterations",
+                  OptionType::kInteger,
+                  30,
+                  1.0,
+                  1000.0,
+                  {},
+                  "Newton iteration limit for g2"}},
+      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
+        KozakKrajncOptions opt;
+        const nlohmann::json& gamma = o.at("gamma");
+        opt.gamma =
+            gamma.is_string() ? std::numeric_limits<double>::quiet_NaN() : gamma.get<double>();
+        const std::string t = o.at("tangents").get<std::string>();
+        opt.tangents = t == "local-quadratic-uniform" ? KozakKrajncTangents::kLocalQuadraticUniform
+                       : t == "local-quadratic-chordal"
+                           ? KozakKrajncTangents::kLocalQuadraticChordal
+                           : KozakKrajncTangents::kSweep;
+        opt.remainder_hermite = o.at("remainder").get<std::string>() == "hermite";
+        opt.g2 = o.at("g2").get<bool>();
+        opt.g2_max_iterations = o.at("g2_max_iterations").get<int>();
+        fit_kozak_krajnc(in, opt, level, out);
+      },
+      /*checks_own_output=*/false};
+  return {m};
+}
+
+}  // namespace fairspline::detail
