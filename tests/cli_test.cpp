@@ -140,6 +140,28 @@ TEST_F(Cli, YongChengHermiteExampleAndMissingTangents) {
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
 
+TEST_F(Cli, KozakKrajncExampleAndPointCountError) {
+  const std::string example = std::string(FAIRSPLINE_SOURCE_DIR) + "/examples/kozak-krajnc.csv";
+  for (const std::string extra : {"", " --set gamma=auto", " --set g2=true"}) {
+    const CliRun r = run("fit " + quote(example) + " -m kozak-krajnc" + extra);
+    ASSERT_EQ(r.exit_code, 0) << extra << ": " << r.err;
+    const json j = json::parse(r.out);
+    expect_fit_schema(j, "kozak-krajnc", 10);
+    EXPECT_TRUE(j["report"]["regular"].get<bool>());
+    EXPECT_EQ(j["method_report"]["segments"].size(), 3u);
+    EXPECT_EQ(j["method_report"]["breakpoints"].size(), 4u);
+  }
+  // 10 points minus one: the error names the count and the way out, exit 1.
+  std::string csv = slurp(example);
+  csv.erase(csv.rfind('\n', csv.size() - 2) + 1);
+  const CliRun bad = run("fit - -m kozak-krajnc", csv);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("3m+1"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("remainder=hermite"), std::string::npos) << bad.err;
+  const CliRun ok = run("fit - -m kozak-krajnc --set remainder=hermite", csv);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
 TEST_F(Cli, DefaultMethodAndStdin) {
   const std::string csv = slurp(kExample);
   const CliRun a = run("fit", csv);

@@ -129,11 +129,15 @@ Mobius mobius(double n0, double n1, double e0, double e1) {
   return {n1 - n0, n0, e1 - e0, e0};
 }
 
-void require_nonzero(double value, std::size_t index, const char* what) {
-  if (value == 0.0) {
-    throw Error(ErrorCode::kInvalidArgument,
-                std::string("kozak-krajnc: ") + what + " (Theorem 4.1 needs it non-zero)", index);
-  }
+/// Throws when three consecutive points T(k), T(k+1), T(k+2) are collinear (kind 0) or the
+/// chords T(k)T(k+1), T(k+2)T(k+3) are parallel (kind 1); the message is built only then.
+void require_nonzero(double value, std::size_t k, int kind) {
+  if (value != 0.0) return;
+  const std::string what =
+      kind == 0 ? pt(k) + ", " + pt(k + 1) + ", " + pt(k + 2) + " are collinear"
+                : "chords " + pt(k) + pt(k + 1) + " and " + pt(k + 2) + pt(k + 3) + " are parallel";
+  throw Error(ErrorCode::kInvalidArgument,
+              "kozak-krajnc: " + what + " (Theorem 4.1 needs them not to be)", k + 1);
 }
 
 /// `all` (optional) continues T with remainder points: then T3m is not the end of the curve and
@@ -152,19 +156,12 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
   g.v.resize(m + 1);
   for (std::size_t l = 1; l <= m; ++l) {  // assumptions of Theorem 4.1 on piece ℓ
     const std::size_t k = 3 * l - 3;
-    require_nonzero(g.D(k, k + 1), k + 1,
-                    (pt(k) + ", " + pt(k + 1) + ", " + pt(k + 2) + " are collinear").c_str());
-    require_nonzero(g.D(k + 1, k + 2), k + 2,
-                    (pt(k + 1) + ", " + pt(k + 2) + ", " + pt(k + 3) + " are collinear").c_str());
-    require_nonzero(g.D(k, k + 2), k + 2,
-                    ("chords T" + std::to_string(k) + "T" + std::to_string(k + 1) + " and T" +
-                     std::to_string(k + 2) + "T" + std::to_string(k + 3) + " are parallel")
-                        .c_str());
+    require_nonzero(g.D(k, k + 1), k, 0);
+    require_nonzero(g.D(k + 1, k + 2), k + 1, 0);
+    require_nonzero(g.D(k, k + 2), k, 1);
   }
   for (std::size_t l = 1; l < m + (goes_on ? 1 : 0); ++l) {
-    require_nonzero(
-        g.D(3 * l - 1, 3 * l), 3 * l,
-        (pt(3 * l - 1) + ", " + pt(3 * l) + ", " + pt(3 * l + 1) + " are collinear").c_str());
+    require_nonzero(g.D(3 * l - 1, 3 * l), 3 * l - 1, 0);
   }
   // (4.1)
   g.u[0] = -1.0 * g.dT[1];
@@ -680,7 +677,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                 "through four consecutive points; got " +
                     std::to_string(n) + ". Drop " + std::to_string(rest) +
                     " point(s) or set remainder=hermite to finish the last span(s) with G1 "
-                    "Hermite cubics",
+                    "Hermite curves",
                 n - 1);
   }
   const std::size_t nk = n - rest;  // points covered by Kozak–Krajnc pieces
