@@ -46,18 +46,33 @@ std::optional<ParameterPair> kozak_krajnc_boundary_alpha0(double lambda1, double
   }
   const double a = 1.0 + lambda1;
   auto t1_of = [a](double t2) { return (a * t2 * t2 * t2 - 1.0) / (a * t2 * t2 - 1.0); };
-  // g decreases from g(lo) = λ2 > 0 to g(1) = −1 on (lo, 1) (proof of Lemma 2.1).
-  auto g = [&](double t2) {
-    const double p = a * t2 * t2 * t2 - 1.0, q = a * t2 * t2 - 1.0;
-    return lambda2 - lambda1 * (1.0 + lambda2) * p * p / (q * q * q);
+  // g decreases from g(lo) = λ2 > 0 to g(1) = −1 on (lo, 1) (proof of Lemma 2.1): Newton with
+  // the derivative of the proof, kept inside the shrinking bracket (bisection fallback).
+  auto g = [&](double t2, double& dg) {
+    const double p = a * t2 * t2 * t2 - 1.0, q = a * t2 * t2 - 1.0, q2 = q * q;
+    dg = 6.0 * lambda1 * a * (1.0 + lambda2) * t2 * (t2 - 1.0) * p / (q2 * q2);
+    return lambda2 - lambda1 * (1.0 + lambda2) * p * p / (q2 * q);
   };
-  double lo = 1.0 / std::cbrt(a), hi = 1.0;
+  double lo = 1.0 / std::cbrt(a), hi = 1.0, x = 0.5 * (lo + hi);
   for (int it = 0; it < 200 && hi - lo > 0.0; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (g(mid) > 0.0 ? lo : hi) = mid;
+    double dg = 0.0;
+    const double v = g(x, dg);
+    if (v == 0.0) {
+      lo = hi = x;
+      break;
+    }
+    (v > 0.0 ? lo : hi) = x;
+    double next = dg != 0.0 ? x - v / dg : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (next == x || next <= lo || next >= hi) break;
+    if (std::abs(next - x) <= 1e-16 * x) {
+      x = next;
+      lo = hi = x;
+      break;
+    }
+    x = next;
   }
-  const double t2 = 0.5 * (lo + hi);
+  const double t2 = lo == hi ? lo : x;
   return ParameterPair{t1_of(t2), t2};
 }
 
