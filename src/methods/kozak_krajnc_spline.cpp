@@ -214,7 +214,7 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
 }
 
 /// μ2ℓ-values with an admissible partner in the μ2ℓ−1-interval `mu` (ForwardSplit's J).
-void forward_partners(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
+void forward_split(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
   if (p.convex) {
     const double lo = mu.lo, hi = mu.hi;
     const bool below = mu.point ? (lo > 0 && lo < p.phi1) : (lo < p.phi1 && hi > 0);
@@ -229,7 +229,7 @@ void forward_partners(const Geometry::Piece& p, const XiInterval& mu, XiSet& out
 }
 
 /// μ2ℓ−1-values with an admissible partner in the μ2ℓ-interval `mu` (BackwardSplit's J).
-void backward_partners(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
+void backward_split(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
   if (p.convex) {
     const double lo = mu.lo, hi = mu.hi;
     const bool below = mu.point ? (lo > 0 && lo < p.phi2) : (lo < p.phi2 && hi > 0);
@@ -363,7 +363,7 @@ KozakKrajncSweep sweep(const Geometry& g, std::span<const std::optional<double>>
   for (std::size_t l = 1; l <= m; ++l) {
     const Geometry::Piece& p = g.piece[l];
     XiSet J;
-    for (const XiInterval& x : s.forward[l - 1]) forward_partners(p, p.mu_left.image(x), J);
+    for (const XiInterval& x : s.forward[l - 1]) forward_split(p, p.mu_left.image(x), J);
     normalize(J);
     s.forward[l] = pull_back(p.mu_right, J, base(l));
     if (s.forward[l].empty()) {
@@ -379,7 +379,7 @@ KozakKrajncSweep sweep(const Geometry& g, std::span<const std::optional<double>>
   for (std::size_t l = m; l >= 1; --l) {
     const Geometry::Piece& p = g.piece[l];
     XiSet J;
-    for (const XiInterval& x : s.xi[l]) backward_partners(p, p.mu_right.image(x), J);
+    for (const XiInterval& x : s.xi[l]) backward_split(p, p.mu_right.image(x), J);
     normalize(J);
     s.xi[l - 1] = pull_back(p.mu_left, J, s.forward[l - 1]);
     if (s.xi[l - 1].empty()) {  // only by rounding at an interval end
@@ -434,7 +434,7 @@ std::vector<double> select(const Geometry& g, const KozakKrajncSweep& s, double 
   for (std::size_t l = 1; l <= g.m; ++l) {
     const Geometry::Piece& p = g.piece[l];
     XiSet J;
-    forward_partners(p, p.mu_left.image({xi[l - 1], xi[l - 1], true}), J);
+    forward_split(p, p.mu_left.image({xi[l - 1], xi[l - 1], true}), J);
     normalize(J);
     const XiSet C = pull_back(p.mu_right, J, s.xi[l]);
     if (C.empty()) {

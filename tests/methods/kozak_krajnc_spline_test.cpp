@@ -4,6 +4,7 @@
 #include "fairspline/methods/kozak_krajnc_spline.hpp"
 
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <cmath>
 #include <numbers>
@@ -371,6 +372,49 @@ TEST(KozakKrajncSpline, InfeasibleDataNameTheFirstEmptySpan) {
     }
   }
   EXPECT_GT(found, 0);
+}
+
+RC_GTEST_PROP(KozakKrajncProps, SolverIsEquivariantUnderReversalAndSimilarity, ()) {
+  // Four points along a turning walk, end directions near the end chords.
+  const auto angle = [](int k) { return k * 1e-3; };
+  const double h0 = angle(*rc::gen::inRange(-3142, 3142));
+  const double turn1 = angle(*rc::gen::inRange(-1200, 1200)),
+               turn2 = angle(*rc::gen::inRange(-1200, 1200));
+  std::vector<Point> T{{0, 0}};
+  double h = h0;
+  for (double turn : {0.0, turn1, turn2}) {
+    h += turn;
+    T.push_back(T.back() + (0.3 + *rc::gen::inRange(0, 1000) * 1e-3) * from_angle(h));
+  }
+  const Vec2 d0 = from_angle(h0 + angle(*rc::gen::inRange(-1200, 1200)));
+  const Vec2 d3 = from_angle(h + angle(*rc::gen::inRange(-1200, 1200)));
+  RC_PRE(std::abs(cross(T[1] - T[0], T[2] - T[1])) > 1e-3 &&
+         std::abs(cross(T[2] - T[1], T[3] - T[2])) > 1e-3 &&
+         std::abs(cross(d0, T[1] - T[0])) > 1e-3 && std::abs(cross(T[3] - T[2], d3)) > 1e-3);
+  const KozakKrajncSolutions a = kozak_krajnc_solve(T[0], T[1], T[2], T[3], d0, d3);
+  // Reversed: T3..T0 with −d3, −d0 gives t ↦ 1 − t and swapped α.
+  const KozakKrajncSolutions r = kozak_krajnc_solve(T[3], T[2], T[1], T[0], -1.0 * d3, -1.0 * d0);
+  RC_ASSERT(a.count == r.count);
+  for (int i = 0; i < a.count; ++i) {
+    const KozakKrajncSolution& x = a.items[i];
+    const KozakKrajncSolution& y = r.items[a.count - 1 - i];
+    RC_ASSERT(std::abs(x.t1 - (1 - y.t2)) < 1e-9 && std::abs(x.t2 - (1 - y.t1)) < 1e-9);
+    RC_ASSERT(std::abs(x.alpha0 - y.alpha3) < 1e-8 * (1 + x.alpha0));
+    RC_ASSERT(x.multiplicity == y.multiplicity);
+  }
+  // Similarity: rotate by 0.7 rad, scale by s, shift: t unchanged, α scaled by s.
+  const double s = std::pow(10.0, *rc::gen::inRange(-3, 4));
+  const auto map = [&](Point p) {
+    return Point{0, 0} + s * rotate(p - Point{0, 0}, 0.7) + Vec2{5, -2};
+  };
+  const KozakKrajncSolutions b = kozak_krajnc_solve(map(T[0]), map(T[1]), map(T[2]), map(T[3]),
+                                                    rotate(d0, 0.7), rotate(d3, 0.7));
+  RC_ASSERT(a.count == b.count);
+  for (int i = 0; i < a.count; ++i) {
+    RC_ASSERT(std::abs(a.items[i].t1 - b.items[i].t1) < 1e-9);
+    RC_ASSERT(std::abs(a.items[i].alpha3 * s - b.items[i].alpha3) <
+              1e-8 * s * (1 + a.items[i].alpha3));
+  }
 }
 
 }  // namespace
