@@ -1,12 +1,32 @@
 #include "detail/bernstein.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace fairspline::detail {
 
 namespace {
 
-int sign_variations(const double* b, int n) {
+// The kernels take the degree as a template argument N (N = 0: the runtime degree n), so that
+// the degrees in use (3 and 9 in the Kozak–Krajnc solver) get fully unrolled loops.
+template <int N>
+constexpr int degree_of(int n) {
+  static_assert(N == 0 || N >= 2, "fixed degrees start at 2 (eval_with_derivatives)");
+  return N > 0 ? N : n;
+}
+
+/// Sign variations of b[0..n], zero coefficients skipped.
+template <int N>
+int sign_variations(const double* b, int rn) {
+  const int n = degree_of<N>(rn);
+  // Without zero coefficients (the usual case): sign-bit changes between neighbours, branch-free.
+  bool zero = false;
+  for (int i = 0; i <= n; ++i) zero |= b[i] == 0.0;
+  if (!zero) {
+    int variations = 0;
+    for (int i = 0; i < n; ++i) variations += std::signbit(b[i]) != std::signbit(b[i + 1]);
+    return variations;
+  }
   int variations = 0;
   int last = 0;
   for (int i = 0; i <= n; ++i) {
@@ -18,71 +38,139 @@ int sign_variations(const double* b, int n) {
   return variations;
 }
 
-/// Splits coefficients b (on [lo, hi]) at the midpoint into left and right halves.
-void subdivide(const double* b, int n, double* left, double* right) {
+// The fixed-degree kernels below recurse over the de Casteljau levels: every loop has a fixed
+// trip count, so the levels unroll and w stays in registers (a runtime-degree loop over a stack
+// array stalls on store-to-load forwarding).
+
+/// De Casteljau levels M, M − 1, ..., Stop + 1 on w[0..M] at u (v = 1 − u): level m replaces
+/// w[0..m−1] by v·w[i] + u·w[i+1].
+template <int M, int Stop>
+inline void casteljau_levels(double* w, double u, double v) {
+  if constexpr (M > Stop) {
+    for (int i = 0; i < M; ++i) w[i] = v * w[i] + u * w[i + 1];
+    casteljau_levels<M - 1, Stop>(w, u, v);
+  }
+}
+
+/// De Casteljau levels M, ..., 1 at the midpoint for a subdivision of degree N: level m gives
+/// left[N + 1 − m] and right[m − 1].
+template <int M, int N>
+inline void midpoint_levels(double* w, double* left, double* right) {
+  if constexpr (M > 0) {
+    for (int i = 0; i < M; ++i) w[i] = 0.5 * (w[i] + w[i + 1]);
+    left[N + 1 - M] = w[0];
+    right[M - 1] = w[M - 1];
+    midpoint_levels<M - 1, N>(w, left, right);
+  }
+}
+
+/// Splits coefficients b (on [lo, hi]) at the midpoint into left and right halves. `right` may
+/// be `b`.
+template <int N>
+void subdivide(const double* b, int rn, double* left, double* right) {
+  const int n = degree_of<N>(rn);
   double w[kBernsteinMaxDegree + 1];
   for (int i = 0; i <= n; ++i) w[i] = b[i];
   left[0] = w[0];
   right[n] = w[n];
-  for (int r = 1; r <= n; ++r) {
-    for (int i = 0; i <= n - r; ++i) w[i] = 0.5 * (w[i] + w[i + 1]);
-    left[r] = w[0];
-    right[n - r] = w[n - r];
+  if constexpr (N > 0) {
+    midpoint_levels<N, N>(w, left, right);
+  } else {
+    for (int r = 1; r <= n; ++r) {
+      for (int i = 0; i <= n - r; ++i) w[i] = 0.5 * (w[i] + w[i + 1]);
+      left[r] = w[0];
+      right[n - r] = w[n - r];
+    }
   }
 }
 
-/// Value and derivative of the Bernstein polynomial b (degree n) at local u in [0, 1].
-void eval_with_derivative(const double* b, int n, double u, double& value, double& derivative) {
+/// Value and first two derivatives of the Bernstein polynomial b (degree n ≥ 1) at local u in
+/// [0, 1], by de Casteljau down to the last three coefficients.
+template <int N>
+void eval_with_derivatives(const double* b, int rn, double u, double& value, double& d1,
+                           double& d2) {
+  const int n = degree_of<N>(rn);
   double w[kBernsteinMaxDegree + 1];
   for (int i = 0; i <= n; ++i) w[i] = b[i];
   const double v = 1.0 - u;
-  for (int r = 1; r < n; ++r) {
-    for (int i = 0; i <= n - r; ++i) w[i] = v * w[i] + u * w[i + 1];
+  if constexpr (N > 0) {
+    casteljau_levels<N, 2>(w, u, v);
+  } else {
+    if (n < 2) {  // linear
+      value = v * w[0] + u * w[1];
+      d1 = w[1] - w[0];
+      d2 = 0.0;
+      return;
+    }
+    for (int r = 1; r < n - 1; ++r) {
+      for (int i = 0; i <= n - r; ++i) w[i] = v * w[i] + u * w[i + 1];
+    }
   }
-  derivative = n * (w[1] - w[0]);
-  value = v * w[0] + u * w[1];
+  d2 = n * (n - 1) * (w[2] - 2.0 * w[1] + w[0]);
+  const double a = v * w[0] + u * w[1], c = v * w[1] + u * w[2];
+  d1 = n * (c - a);
+  value = v * a + u * c;
 }
 
 /// The root of b (degree n) in local [0, 1] where b[0] and b[n] have opposite signs and exactly
-/// one sign variation: Newton steps kept inside a shrinking bracket (bisection fallback).
-double refine(const double* b, int n) {
+/// one sign variation: Halley steps (cubic convergence; Newton's where Halley's denominator is
+/// not positive) kept inside a shrinking bracket, bisection fallback, from where the control
+/// polygon crosses zero.
+template <int N>
+double refine(const double* b, int rn) {
+  const int n = degree_of<N>(rn);
   double lo = 0.0, hi = 1.0;
   const bool increasing = b[n] > 0.0;
-  double u = b[0] / (b[0] - b[n]);  // secant start
+  double u = 0.5;
+  for (int i = 0; i < n; ++i) {
+    if (std::signbit(b[i]) != std::signbit(b[i + 1]) && b[i] != 0.0) {
+      u = (i + b[i] / (b[i] - b[i + 1])) / n;
+      break;
+    }
+  }
+  double last_step = HUGE_VAL;  // no step taken yet
   for (int it = 0; it < 100; ++it) {
-    double value = 0.0, derivative = 0.0;
-    eval_with_derivative(b, n, u, value, derivative);
+    double value = 0.0, derivative = 0.0, second = 0.0;
+    eval_with_derivatives<N>(b, n, u, value, derivative, second);
     if (value == 0.0) return u;
-    if ((value > 0.0) == increasing) {
-      hi = u;
+    const bool above = (value > 0.0) == increasing;
+    hi = above ? u : hi;
+    lo = above ? lo : u;
+    if (derivative == 0.0) {
+      u = 0.5 * (lo + hi);
+      last_step = HUGE_VAL;
+      continue;
+    }
+    const double den = 2.0 * derivative * derivative - value * second;
+    const double step = den > 0.0 ? 2.0 * value * derivative / den : value / derivative;
+    const double tol = 4e-16 * std::max(1.0, std::abs(u));
+    const double next = u - step;
+    // Converged once the step is at rounding level. (Tested before the bracket: a step below the
+    // spacing of the doubles lands on a bracket end, which is no reason to bisect.)
+    if (std::abs(step) <= tol) return next;
+    if (next > lo && next < hi) {
+      // In the cubic regime the following step would be about step⁴ / last_step³: when that is
+      // at rounding level too, `next` is the root and its evaluation can be saved.
+      const double s = std::abs(step);
+      if (last_step < HUGE_VAL && s <= 1e-4 &&
+          s * s * s * s <= tol * last_step * last_step * last_step) {
+        return next;
+      }
+      last_step = s;
+      u = next;
     } else {
-      lo = u;
+      u = 0.5 * (lo + hi);
+      last_step = HUGE_VAL;
     }
-    double next = derivative != 0.0 ? u - value / derivative : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - u) <= 4e-16 * std::max(1.0, std::abs(u)) || hi - lo <= 1e-16) {
-      return next;
-    }
-    u = next;
+    if (hi - lo <= 1e-16) return u;
   }
   return u;
 }
 
-}  // namespace
-
-double BernsteinPoly::eval(double u) const {
-  double w[kBernsteinMaxDegree + 1];
-  for (int i = 0; i <= degree; ++i) w[i] = b[i];
-  const double v = 1.0 - u;
-  for (int r = 1; r <= degree; ++r) {
-    for (int i = 0; i <= degree - r; ++i) w[i] = v * w[i] + u * w[i + 1];
-  }
-  return w[0];
-}
-
-BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution) {
+template <int N>
+BernsteinRoots isolate(const BernsteinPoly& p, double resolution) {
   BernsteinRoots out;
-  const int n = p.degree;
+  const int n = degree_of<N>(p.degree);
   struct Item {
     double lo, hi;
     double b[kBernsteinMaxDegree + 1];
@@ -104,30 +192,53 @@ BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution) {
     out.items[out.count++] = {u, count};
   };
   while (top > 0) {
-    const Item item = stack[--top];
-    const int v = sign_variations(item.b, n);
+    Item& item = stack[--top];
+    const int v = sign_variations<N>(item.b, n);
     if (v == 0) continue;
-    const double width = item.hi - item.lo;
+    const double lo = item.lo, hi = item.hi, width = hi - lo;
     if (v == 1 && item.b[0] != 0.0 && item.b[n] != 0.0) {
-      push_root(item.lo + width * refine(item.b, n), 1);
+      push_root(lo + width * refine<N>(item.b, n), 1);
       continue;
     }
     if (width <= resolution || top + 2 > kStack) {
-      push_root(0.5 * (item.lo + item.hi), v);
+      push_root(0.5 * (lo + hi), v);
       continue;
     }
-    Item left, right;
-    const double mid = 0.5 * (item.lo + item.hi);
-    left.lo = item.lo;
+    // Split in place: the right half overwrites the item, the left half goes above it (popped
+    // first, so roots come out in increasing order). subdivide reads b before writing.
+    const double mid = 0.5 * (lo + hi);
+    Item& left = stack[top + 1];
+    subdivide<N>(item.b, n, left.b, item.b);
+    item.lo = mid;
+    left.lo = lo;
     left.hi = mid;
-    right.lo = mid;
-    right.hi = item.hi;
-    subdivide(item.b, n, left.b, right.b);
     if (left.b[n] == 0.0) push_root(mid, 1);  // a root exactly at the split point
-    stack[top++] = right;  // left is popped first: roots come out in increasing order
-    stack[top++] = left;
+    top += 2;
   }
   return out;
+}
+
+}  // namespace
+
+double BernsteinPoly::eval(double u) const {
+  double w[kBernsteinMaxDegree + 1];
+  for (int i = 0; i <= degree; ++i) w[i] = b[i];
+  const double v = 1.0 - u;
+  for (int r = 1; r <= degree; ++r) {
+    for (int i = 0; i <= degree - r; ++i) w[i] = v * w[i] + u * w[i + 1];
+  }
+  return w[0];
+}
+
+BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution) {
+  switch (p.degree) {
+    case 3:
+      return isolate<3>(p, resolution);
+    case 9:
+      return isolate<9>(p, resolution);
+    default:
+      return isolate<0>(p, resolution);
+  }
 }
 
 }  // namespace fairspline::detail

@@ -12,11 +12,13 @@ namespace fairspline {
 
 namespace {
 
+[[noreturn]] void throw_zero_denominator(const char* what) {
+  throw Error(ErrorCode::kInvalidArgument, std::string("kozak-krajnc: ") + what +
+                                               " is zero, so the constants (2.6) are undefined");
+}
+
 double ratio(double num, double den, const char* what) {
-  if (den == 0.0) {
-    throw Error(ErrorCode::kInvalidArgument, std::string("kozak-krajnc: ") + what +
-                                                 " is zero, so the constants (2.6) are undefined");
-  }
+  if (den == 0.0) throw_zero_denominator(what);
   return num / den;
 }
 
@@ -222,6 +224,38 @@ void bezout(const double f[4], const double g[4], double B[3][3]) {
   B[2][0] = c03, B[2][1] = c13, B[2][2] = c23;
 }
 
+/// The common root t1 of F(·, t2) and G(·, t2) from the Bézout matrix at a simple root t2 of
+/// the resultant: B then has rank 2 and its null vector is (1, t1, t1²). False when that is not
+/// numerically clear (B close to rank 1, i.e. several common roots on this fibre, or a null
+/// vector not of that form); the caller then falls back to the roots of F(·, t2).
+bool common_root(const ClearedSystem& sys, double t2, double& t1) {
+  double f[4], g[4], B[3][3];
+  sys.coefficients(t2, f, g);
+  bezout(f, g, B);
+  // The null vector is parallel to the cross product of any two independent rows; take the
+  // largest of the three.
+  double v[3] = {0.0, 0.0, 0.0}, vn2 = -1.0, rn2 = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    for (int j = i + 1; j < 3; ++j) {
+      const double* a = B[i];
+      const double* b = B[j];
+      const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                           a[0] * b[1] - a[1] * b[0]};
+      const double c2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+      if (c2 > vn2) {
+        vn2 = c2;
+        rn2 = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        v[0] = c[0], v[1] = c[1], v[2] = c[2];
+      }
+    }
+  }
+  // Rows at least 1e-4 (in sine of their angle) from parallel, and v0·v2 = v1² (a Vandermonde
+  // vector) to 1e-6 of |v|².
+  if (!(vn2 > 1e-8 * rn2) || !(std::abs(v[0] * v[2] - v[1] * v[1]) <= 1e-6 * vn2)) return false;
+  t1 = std::abs(v[0]) >= std::abs(v[2]) ? v[1] / v[0] : v[2] / v[1];
+  return std::isfinite(t1);
+}
+
 double det3(const double B[3][3]) {
   return B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) -
          B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
@@ -295,20 +329,34 @@ detail::BernsteinRoots fibre_roots(const ClearedSystem& sys, double t2) {
   return roots;
 }
 
+/// Whether the gradients of F and G (the rows of J) are transversal: the sine of their angle,
+/// |det J| / (|∇F| |∇G|), above 1e-6. Rows scaled to max-norm 1 first (no overflow or underflow
+/// in the squares).
+bool regular(const double J[2][2]) {
+  const double mf = std::max(std::abs(J[0][0]), std::abs(J[0][1]));
+  const double mg = std::max(std::abs(J[1][0]), std::abs(J[1][1]));
+  if (!(mf > 0.0 && mg > 0.0)) return false;
+  const double a = J[0][0] / mf, b = J[0][1] / mf, c = J[1][0] / mg, d = J[1][1] / mg;
+  const double det = a * d - b * c;
+  return det * det > 1e-12 * (a * a + b * b) * (c * c + d * d);
+}
+
 /// Newton's method on the cleared system from (x, y); false if it did not reach a root.
 /// `singular` reports a (numerically) singular Jacobian there: the curves (2.3) are tangent and
 /// the root is multiple. Newton then converges only linearly and wanders in a valley of width
 /// about ε^(1/k), so the iterate with the smallest residual is kept.
 bool polish(const ClearedSystem& sys, double& x, double& y, bool& singular) {
-  double best_x = x, best_y = y, best = HUGE_VAL, best_det = 0.0;
+  double best_x = x, best_y = y, best = HUGE_VAL;
+  bool best_regular = false;
   for (int it = 0; it < 100; ++it) {
     double F, G, J[2][2], scale;
     sys.eval(x, y, F, G, J, scale);
     const double det = J[0][0] * J[1][1] - J[0][1] * J[1][0];
-    const double nf = std::hypot(J[0][0], J[0][1]), ng = std::hypot(J[1][0], J[1][1]);
     const double residual = std::max(std::abs(F), std::abs(G)) / scale;
-    if (residual < best) {
-      best = residual, best_x = x, best_y = y, best_det = std::abs(det) / (nf * ng);
+    const bool improved = residual < best;
+    if (improved) {
+      best = residual, best_x = x, best_y = y;
+      best_regular = regular(J);
     }
     if (residual == 0.0 || !(std::abs(det) > 1e-300)) break;
     const double dx = (J[1][1] * F - J[0][1] * G) / det;
@@ -316,16 +364,17 @@ bool polish(const ClearedSystem& sys, double& x, double& y, bool& singular) {
     x -= dx;
     y -= dy;
     if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 4.0 || std::abs(y) > 4.0) break;
-    // Quadratic convergence: once the step is at rounding level, one more evaluation suffices.
-    if (std::abs(dx) + std::abs(dy) <= 1e-14 && best_det > 1e-6) {
-      sys.eval(x, y, F, G, J, scale);
-      if (std::max(std::abs(F), std::abs(G)) / scale < best) best_x = x, best_y = y;
+    // Quadratic convergence: a step below 1e-10 from the best point, regular and already within
+    // the residual bound, leaves an error far below rounding (about the step squared), so the
+    // stepped point is taken without evaluating it again.
+    if (std::abs(dx) + std::abs(dy) <= 1e-10 && improved && best_regular && best <= 1e-11) {
+      best_x = x, best_y = y;
       break;
     }
   }
   x = best_x;
   y = best_y;
-  singular = !(best_det > 1e-6);
+  singular = !best_regular;
   return best <= 1e-11;
 }
 
@@ -402,32 +451,48 @@ KozakKrajncSolutions kozak_krajnc_solve(Point T0, Point T1, Point T2, Point T3, 
   };
   Candidate found[detail::BernsteinRoots::kCapacity];
   int nfound = 0;
+  // Newton from (x, y); keeps the admissible, new results.
+  auto try_start = [&](double x, double y) {
+    bool singular = false;
+    if (!polish(sys, x, y, singular)) return;
+    if (!(x > 0.0 && x < y && y < 1.0)) return;
+    for (int i = 0; i < nfound; ++i) {
+      const double tol = (singular || found[i].singular) ? 1e-4 : 1e-10;
+      if (std::abs(found[i].t1 - x) <= tol && std::abs(found[i].t2 - y) <= tol) return;
+    }
+    if (nfound < detail::BernsteinRoots::kCapacity) found[nfound++] = {x, y, singular};
+  };
+  // Q's roots closer than this to a neighbour are treated as a cluster.
+  constexpr double kSeparation = 1e-4;
   for (int r = 0; r < roots.count; ++r) {
     const double y0 = roots.items[r].u;
-    // Only t1 ∈ (0, t2) can be admissible: Newton starts at the roots of F(·, t2) there. (The
-    // Bézout null vector would give the common root directly, but mixes neighbours when roots
-    // of Q cluster; F's own roots do not.)
-    const detail::BernsteinRoots starts = fibre_roots(sys, y0);
-    for (int s = 0; s < starts.count; ++s) {
-      double x = starts.items[s].u, y = y0;
-      bool singular = false;
-      if (!polish(sys, x, y, singular)) continue;
-      if (!(x > 0.0 && x < y && y < 1.0)) continue;
-      bool duplicate = false;
-      for (int i = 0; i < nfound; ++i) {
-        const double tol = (singular || found[i].singular) ? 1e-4 : 1e-10;
-        if (std::abs(found[i].t1 - x) <= tol && std::abs(found[i].t2 - y) <= tol) {
-          duplicate = true;
-          break;
-        }
-      }
-      if (!duplicate && nfound < detail::BernsteinRoots::kCapacity) {
-        found[nfound++] = {x, y, singular};
-      }
+    // Only t1 ∈ (0, t2) can be admissible. At a simple, separated root of Q the common root t1
+    // of F(·, t2), G(·, t2) is unique and the Bézout null vector gives it: one Newton start, or
+    // none when t1 is clearly outside (0, t2) (most roots of Q). Otherwise (clusters, several
+    // common roots) Newton starts at every root of F(·, t2) in [0, t2]: F's own roots do not mix
+    // neighbouring roots of Q as the null vector does there.
+    const bool separated = roots.items[r].count == 1 &&
+                           (r == 0 || y0 - roots.items[r - 1].u > kSeparation) &&
+                           (r + 1 == roots.count || roots.items[r + 1].u - y0 > kSeparation);
+    double x0 = 0.0;
+    if (separated && common_root(sys, y0, x0)) {
+      // t1 inherits the error of the root of Q (up to ~1e-8 where Q is ill-conditioned)
+      // amplified by up to 1e4 (the rows' angle): a wide margin, the rest is left to Newton.
+      constexpr double kMargin = 1e-2;
+      if (x0 > -kMargin && x0 < y0 + kMargin) try_start(x0, y0);
+      continue;
     }
+    const detail::BernsteinRoots starts = fibre_roots(sys, y0);
+    for (int s = 0; s < starts.count; ++s) try_start(starts.items[s].u, y0);
   }
 
-  const double size = std::max({norm(e0), norm(e1), norm(e2)});
+  // The residual test compares squared norms (hypot is slow) while the squares of the data can
+  // neither overflow nor underflow, else the norms themselves.
+  const double size2 = std::max({norm2(e0), norm2(e1), norm2(e2)});
+  auto interpolates = [&](Vec2 r1, Vec2 r2) {
+    if (size2 > 1e-280 && size2 < 1e280) return std::max(norm2(r1), norm2(r2)) <= 1e-18 * size2;
+    return std::max(norm(r1), norm(r2)) <= 1e-9 * std::max({norm(e0), norm(e1), norm(e2)});
+  };
   for (int i = 0; i < nfound && out.count < KozakKrajncSolutions::kCapacity; ++i) {
     const double t1 = found[i].t1, t2 = found[i].t2;
     // (2.4), (2.5)
@@ -447,7 +512,7 @@ KozakKrajncSolutions kozak_krajnc_solve(Point T0, Point T1, Point T2, Point T3, 
     const CubicBezier c = kozak_krajnc_bezier(T0, T3, d0, d3, s);
     // Verification by the interpolation residual. The cleared system also vanishes on the
     // boundary of D (e.g. at t1 = t2 = 0), so roots rounding pushed just inside are caught here.
-    if (!(std::max(norm(c.eval(t1) - T1), norm(c.eval(t2) - T2)) <= 1e-9 * size)) continue;
+    if (!interpolates(c.eval(t1) - T1, c.eval(t2) - T2)) continue;
     const Vec2 a = c.d2(0.0), b = c.d2(1.0);
     s.energy = (dot(a, a) + dot(a, b) + dot(b, b)) / 3.0;
     out.items[out.count++] = s;
