@@ -213,16 +213,19 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
   return g;
 }
 
+/// Convex pieces (Theorem 2.4): μ-values below (above) the threshold `from` have as partners
+/// the values below (above) `to` on the other end.
+void convex_partners(const XiInterval& mu, double from, double to, XiSet& out) {
+  const double lo = mu.lo, hi = mu.hi;
+  const bool below = mu.point ? (lo > 0 && lo < from) : (lo < from && hi > 0);
+  const bool above = mu.point ? lo > from : hi > from;
+  if (below) out.push_back({0.0, to, false});
+  if (above) out.push_back({to, kInf, false});
+}
+
 /// μ2ℓ-values with an admissible partner in the μ2ℓ−1-interval `mu` (ForwardSplit's J).
 void forward_split(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
-  if (p.convex) {
-    const double lo = mu.lo, hi = mu.hi;
-    const bool below = mu.point ? (lo > 0 && lo < p.phi1) : (lo < p.phi1 && hi > 0);
-    const bool above = mu.point ? lo > p.phi1 : hi > p.phi1;
-    if (below) out.push_back({0.0, p.phi2, false});
-    if (above) out.push_back({p.phi2, kInf, false});
-    return;
-  }
+  if (p.convex) return convex_partners(mu, p.phi1, p.phi2, out);
   const auto r = p.lambda1 > 0 ? kozak_krajnc_r1(mu, p.lambda1, p.lambda2)
                                : kozak_krajnc_r2(mu, p.lambda2, p.lambda1);
   if (r) out.push_back(*r);
@@ -230,14 +233,7 @@ void forward_split(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
 
 /// μ2ℓ−1-values with an admissible partner in the μ2ℓ-interval `mu` (BackwardSplit's J).
 void backward_split(const Geometry::Piece& p, const XiInterval& mu, XiSet& out) {
-  if (p.convex) {
-    const double lo = mu.lo, hi = mu.hi;
-    const bool below = mu.point ? (lo > 0 && lo < p.phi2) : (lo < p.phi2 && hi > 0);
-    const bool above = mu.point ? lo > p.phi2 : hi > p.phi2;
-    if (below) out.push_back({0.0, p.phi1, false});
-    if (above) out.push_back({p.phi1, kInf, false});
-    return;
-  }
+  if (p.convex) return convex_partners(mu, p.phi2, p.phi1, out);
   const auto r = p.lambda1 > 0 ? kozak_krajnc_r2(mu, p.lambda1, p.lambda2)
                                : kozak_krajnc_r1(mu, p.lambda2, p.lambda1);
   if (r) out.push_back(*r);

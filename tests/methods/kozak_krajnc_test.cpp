@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -225,17 +226,23 @@ RandomPiece random_piece(std::mt19937_64& rng) {
   return p;
 }
 
+/// The constants of a sample, or nullopt when they are undefined (collinear chords etc.).
+std::optional<KozakKrajncConstants> try_constants(const RandomPiece& p) {
+  try {
+    return kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+}
+
 TEST(KozakKrajncSolve, EverySolutionInterpolatesAndTheoremsGiveAnOddCount) {
   std::mt19937_64 rng(11);
   int with_theorem = 0, multiple = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     const RandomPiece p = random_piece(rng);
-    KozakKrajncConstants c;
-    try {
-      c = kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
-    } catch (const Error&) {
-      continue;
-    }
+    const auto constants = try_constants(p);
+    if (!constants) continue;  // degenerate sample
+    const KozakKrajncConstants& c = *constants;
     const KozakKrajncSolutions sol = kozak_krajnc_solve(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
     for (const KozakKrajncSolution& s : sol) {
       ASSERT_TRUE(0 < s.t1 && s.t1 < s.t2 && s.t2 < 1 && s.alpha0 > 0 && s.alpha3 > 0);
@@ -360,12 +367,9 @@ TEST(KozakKrajncSolve, BruteForceFindsNothingTheSolverMissed) {
   int checked = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const RandomPiece p = random_piece(rng);
-    KozakKrajncConstants c;
-    try {
-      c = kozak_krajnc_constants(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
-    } catch (const Error&) {
-      continue;
-    }
+    const auto constants = try_constants(p);
+    if (!constants) continue;  // degenerate sample
+    const KozakKrajncConstants& c = *constants;
     const KozakKrajncSolutions sol = kozak_krajnc_solve(p.T[0], p.T[1], p.T[2], p.T[3], p.d0, p.d3);
     for (const ParameterPair& b : brute_force(c)) {
       bool matched = false;
