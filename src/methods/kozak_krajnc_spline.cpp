@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <string>
 
 #include "detail/finite.hpp"
@@ -524,7 +523,7 @@ double g2_residual(const Geometry& g, std::size_t l, const PieceFit& left, const
   return (left.c.curvature(1.0) - right.c.curvature(0.0)) * len;
 }
 
-G2Report solve_g2(const Geometry& g, std::vector<double>& xi, std::span<const bool> pinned,
+G2Report solve_g2(const Geometry& g, std::vector<double>& xi, std::span<const char> pinned,
                   int max_iterations, std::vector<PieceFit>& pieces) {
   G2Report rep;
   const std::size_t m = g.m;
@@ -770,7 +769,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   if (options.g2) {
     // Newton from the G1 solution; Newton is local, so if that start fails, the directions of
     // the local parabolas are tried as further starts (reported as "start").
-    std::unique_ptr<bool[]> pinned(new bool[m + 1]);
+    std::vector<char> pinned(m + 1);  // ends and prescribed directions stay
     for (std::size_t l = 0; l <= m; ++l) pinned[l] = l == 0 || l == m || fixed[l].has_value();
     for (const char* start : {"g1", "local-quadratic-chordal", "local-quadratic-uniform"}) {
       std::vector<double> x = xi;
@@ -790,8 +789,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
         }
         if (!ok) continue;
       }
-      const G2Report attempt =
-          solve_g2(g, x, std::span<const bool>(pinned.get(), m + 1), options.g2_max_iterations, p);
+      const G2Report attempt = solve_g2(g, x, pinned, options.g2_max_iterations, p);
       if (g2_start.empty() || attempt.converged) g2 = attempt, g2_start = start;
       if (attempt.converged) {
         xi = x;
