@@ -142,7 +142,10 @@ void require_nonzero(double value, std::size_t k, int kind) {
 /// `all` (optional) continues T with remainder points: then T3m is not the end of the curve and
 /// its direction is parameterized like an interior breakpoint of (4.1) (σ3m = +1 when ΔT3m+1
 /// does not exist), so that the curve can go on G1 past it.
-Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
+/// `sweeps` = false (every direction prescribed): only what solving the pieces needs is
+/// checked; Theorem 4.1's further assumptions (no parallel chords, no piece turning past a half
+/// turn, interior breakpoints off the chords' line) do not apply.
+Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}, bool sweeps = true) {
   Geometry g;
   g.T = T;
   g.all = all.size() > T.size() ? all : T;
@@ -157,9 +160,9 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
     const std::size_t k = 3 * l - 3;
     require_nonzero(g.D(k, k + 1), k, 0);
     require_nonzero(g.D(k + 1, k + 2), k + 1, 0);
-    require_nonzero(g.D(k, k + 2), k, 1);
+    if (sweeps) require_nonzero(g.D(k, k + 2), k, 1);
   }
-  for (std::size_t l = 1; l < m + (goes_on ? 1 : 0); ++l) {
+  for (std::size_t l = 1; sweeps && l < m + (goes_on ? 1 : 0); ++l) {
     require_nonzero(g.D(3 * l - 1, 3 * l), 3 * l - 1, 0);
   }
   // (4.1)
@@ -189,6 +192,7 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}) {
     Geometry::Piece& p = g.piece[l];
     p.lambda1 = g.D(k, k + 2) / g.D(k, k + 1);
     p.lambda2 = g.D(k, k + 2) / g.D(k + 1, k + 2);
+    if (!sweeps) continue;
     if (p.lambda1 < 0 && p.lambda2 < 0) {
       throw Error(ErrorCode::kInvalidArgument,
                   "kozak-krajnc: points " + pt(k) + ".." + pt(k + 3) +
@@ -685,14 +689,18 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
     }
   }
   const std::span<const Point> T(out.points.data(), nk);
-  const Geometry g = geometry(T, out.points);
-  const std::size_t m = g.m;
-
   // Prescribed directions: per-point tangents at breakpoints, start/end tangents.
   std::vector<std::optional<Vec2>> given(n);
   for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) given[i] = input.tangents[i];
   if (input.start_tangent) given[0] = input.start_tangent;
   if (input.end_tangent) given[n - 1] = input.end_tangent;
+  // Every breakpoint prescribed (e.g. one piece with both ends clamped): no sweeps, each piece
+  // is the single-piece problem of Section 2, solved exactly whatever the directions.
+  bool all_given = true;
+  for (std::size_t i = 0; i < nk; i += 3) all_given = all_given && given[i].has_value();
+  const Geometry g = geometry(T, out.points, !all_given);
+  const std::size_t m = g.m;
+
   std::vector<std::optional<double>> fixed(m + 1);
   for (std::size_t i = 0; i < nk; ++i) {
     if (!given[i]) continue;
@@ -704,6 +712,10 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                   i);
     }
     const auto x = xi_of(g, i / 3, *given[i]);
+    if (all_given) {
+      fixed[i / 3] = x.value_or(std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
     if (!x) {
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: the tangent given at " + pt(i) +
@@ -712,10 +724,21 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
     }
     fixed[i / 3] = *x;
   }
-  const KozakKrajncSweep sw = sweep(g, fixed);
+  KozakKrajncSweep sw;
+  if (all_given) {
+    sw.pieces = m;
+    sw.I.assign(m + 1, {0.0, 1.0, false});
+    sw.forward.assign(m + 1, {});
+    sw.xi.assign(m + 1, {});
+  } else {
+    sw = sweep(g, fixed);
+  }
 
   std::vector<double> xi;
-  if (options.tangents == KozakKrajncTangents::kSweep) {
+  if (all_given) {
+    xi.resize(m + 1);
+    for (std::size_t l = 0; l <= m; ++l) xi[l] = *fixed[l];
+  } else if (options.tangents == KozakKrajncTangents::kSweep) {
     xi = select(g, sw, options.gamma);
   } else {
     const bool chordal = options.tangents == KozakKrajncTangents::kLocalQuadraticChordal;
@@ -745,9 +768,26 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   }
 
   std::vector<PieceFit> pieces(m + 1);
+  auto dir_at = [&](std::size_t l) {
+    return all_given ? unit(*given[3 * l]) : direction(g, l, xi[l]);
+  };
   for (std::size_t l = 1; l <= m; ++l) {
-    if (!solve_piece(g, l, direction(g, l - 1, xi[l - 1]), direction(g, l, xi[l]), nullptr,
-                     pieces[l])) {
+    bool solved = false;
+    try {
+      solved = solve_piece(g, l, dir_at(l - 1), dir_at(l), nullptr, pieces[l]);
+    } catch (const Error& e) {  // degenerate constants (2.6), e.g. a direction along a chord
+      throw Error(e.code(), "kozak-krajnc: piece " + std::to_string(l) + ": " + e.what(),
+                  3 * l - 3);
+    }
+    if (!solved && all_given) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." +
+                      pt(3 * l) +
+                      ") has no admissible solution (0 < t1 < t2 < 1, alpha0, alpha3 > 0) for "
+                      "the prescribed directions",
+                  3 * l - 3);
+    }
+    if (!solved) {
       const bool outside = !in_xi[l - 1] || !in_xi[l];
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." +
@@ -766,7 +806,9 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   }
   G2Report g2;
   std::string g2_start;
-  if (options.g2) {
+  if (options.g2 && all_given) {
+    g2.reason = "every direction is prescribed: nothing to solve for";
+  } else if (options.g2) {
     // Newton from the G1 solution; Newton is local, so if that start fails, the directions of
     // the local parabolas are tried as further starts (reported as "start").
     std::vector<char> pinned(m + 1);  // ends and prescribed directions stay
@@ -875,15 +917,17 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   out.method_report["segments"] = segs;
   nlohmann::json bps = nlohmann::json::array();
   for (std::size_t l = 0; l <= m; ++l) {
-    bps.push_back({{"point", 3 * l},
-                   {"xi", xi[l]},
-                   {"Xi", set_json(sw.xi[l])},
-                   {"Xi_forward", set_json(sw.forward[l])},
-                   {"I", interval_json(sw.I[l])},
-                   {"in_Xi", in_xi[l] != 0},
-                   {"prescribed", fixed[l].has_value()}});
+    nlohmann::json bp = {{"point", 3 * l}, {"xi", xi[l]}, {"prescribed", fixed[l].has_value()}};
+    if (!all_given) {  // no sweeps when every direction is prescribed
+      bp["Xi"] = set_json(sw.xi[l]);
+      bp["Xi_forward"] = set_json(sw.forward[l]);
+      bp["I"] = interval_json(sw.I[l]);
+      bp["in_Xi"] = in_xi[l] != 0;
+    }
+    bps.push_back(bp);
   }
   out.method_report["breakpoints"] = bps;
+  out.method_report["sweeps"] = !all_given;
   out.method_report["tangents"] = tangents_name(options.tangents);
   out.method_report["gamma"] =
       std::isnan(options.gamma) ? nlohmann::json("auto") : nlohmann::json(options.gamma);
