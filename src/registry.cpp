@@ -36,7 +36,7 @@ const std::vector<MethodInfo>& methods() {
 }
 
 std::string_view default_method_name() {
-  return "li-combined";
+  return "quasi-elastic";
 }
 
 const MethodInfo& find_method(std::string_view name) {

@@ -169,7 +169,7 @@ TEST_F(Cli, DefaultMethodAndStdin) {
   const CliRun b = run("fit -", csv);
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_EQ(a.out, b.out);
-  EXPECT_EQ(json::parse(a.out)["method"], "li-combined");
+  EXPECT_EQ(json::parse(a.out)["method"], "quasi-elastic");
   // JSON on stdin is detected by its first character.
   const CliRun c = run("fit --report none", R"({"points": [[0,0],[1,1],[2,0]], "closed": true})");
   ASSERT_EQ(c.exit_code, 0) << c.err;
@@ -204,7 +204,7 @@ TEST_F(Cli, BadOptionExitsOneWithMessage) {
   EXPECT_TRUE(r.out.empty());
   EXPECT_NE(r.err.find("fairspline: error [unknown_option]"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("wieghts"), std::string::npos) << r.err;
-  const CliRun v = run("fit " + quote(kExample) + " --set weights=heavy");
+  const CliRun v = run("fit " + quote(kExample) + " --set lambda=heavy");
   EXPECT_EQ(v.exit_code, 1);
   EXPECT_NE(v.err.find("[bad_option]"), std::string::npos) << v.err;
   const CliRun s = run("fit " + quote(kExample) + " -f svg --set svg.comb=maybe");

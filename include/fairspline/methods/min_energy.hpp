@@ -1,0 +1,98 @@
+// Johnson & Johnson's minimal-energy framework: every tangent direction is chosen so that the
+// total energy of the admissible curve (a basic curve per span) is minimal.
+// Paper: T. Johnson, J. Johnson, "A constructive framework for minimal energy planar curves"
+// (Sections 2–6, Examples 1.1, 4.1, 4.2, Theorem 4.4). See docs/methods/min-energy.md.
+//
+// A basic curve method maps a chord of length L and the end angles (α, β) — the angles of the
+// end directions measured from the chord — to a curve c_L(α, β) with energy
+// E_L(α, β) = E_1(α, β) / L, defined for |α|, |β| ≤ Ω.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fairspline/cubic_bezier.hpp"
+#include "fairspline/fit.hpp"
+
+namespace fairspline {
+
+/// The basic curve methods.
+enum class MinEnergyBasis {
+  kCondG2,  ///< conditionally G2 cubic, speeds s0 = s1 = λ (Theorem 4.4); λ = 1: quasi-elastic
+  kJaklicZagar,  ///< s0 = cos α, s1 = cos β, E_1 = sin²α + sin²β (Example 4.2)
+  kYongCheng,    ///< optimized geometric Hermite speeds, E_1 = ∫|c''|² (Example 4.1)
+};
+
+/// A basic curve method with its parameters.
+struct BasicCurveMethod {
+  MinEnergyBasis basis = MinEnergyBasis::kCondG2;
+  double lambda = 1.0;                ///< shape parameter of kCondG2, in (0, 3)
+  double omega = 1.5707963267948966;  ///< Ω (radians): feasible |α|, |β| ≤ Ω
+
+  /// The default Ω of each basis: 90° (cond-G2, quasi-elastic), 80° (Jaklič–Žagar, as in
+  /// Fig. 7), 60° (Yong–Cheng).
+  static double default_omega(MinEnergyBasis basis);
+};
+
+/// E_1 and its first and second partial derivatives at (α, β) (unit chord).
+struct BasicEnergy {
+  double e = 0.0;
+  double ea = 0.0, eb = 0.0;               ///< ∂E/∂α, ∂E/∂β
+  double eaa = 0.0, eab = 0.0, ebb = 0.0;  ///< Hessian
+};
+
+/// E_1(α, β) with derivatives. cond-G2: E_1 = ½∫|c''|² = 2λ² cos(α−β) − 6λ(cos α + cos β)
+/// + 4λ² + 6 (Section 4; Example 1.1 prints half of the λ = 1 case — same minimizers).
+BasicEnergy basic_energy(const BasicCurveMethod& method, double alpha, double beta);
+
+/// Speeds (s0, s1) of the basic curve c_1(α, β) (4.1).
+struct BasicSpeeds {
+  double s0 = 0.0;
+  double s1 = 0.0;
+};
+BasicSpeeds basic_speeds(const BasicCurveMethod& method, double alpha, double beta);
+
+/// The basic curve c_L(α, β) from p0 to p1 as a Bézier cubic (α, β measured from the chord).
+CubicBezier basic_curve(const BasicCurveMethod& method, Point p0, Point p1, double alpha,
+                        double beta);
+
+/// Options of the minimal-energy fit.
+struct MinEnergyOptions {
+  BasicCurveMethod method;
+  int max_iterations = 200;
+  /// Stop when the projected gradient's largest entry is below tolerance · max(1/L_i) (the
+  /// natural size of the gradient for the data's chord lengths).
+  double tolerance = 1e-10;
+};
+
+/// Outcome of the optimizer (also in FitResult::method_report).
+struct MinEnergyReport {
+  int iterations = 0;
+  double energy = 0.0;
+  double projected_gradient = 0.0;  ///< final, relative (see MinEnergyOptions::tolerance)
+  std::vector<std::size_t> active;  ///< points whose direction sits on a bound of D_i
+  int pieces = 1;                   ///< independent pieces (split at corners)
+};
+
+/// The minimal-energy curve through input.points (open or closed; clamped ends via
+/// start_tangent / end_tangent; node kinds smooth / clamped / corner). Throws
+/// Error(kInfeasible) listing the points with |ψ_i| > 2Ω (Theorem 2.3) or clamped directions
+/// outside their feasible range, Error(kNotConverged) if the optimizer stops early.
+void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
+                    FitResult& out, MinEnergyReport* report = nullptr);
+
+/// Slow reference optimizer in the manner of Curve Ensemble (tests and benchmarks only): cyclic
+/// coordinate descent over each free direction, first over 360 one-degree offsets until no
+/// move lowers the energy, then 10 refinement levels with steps shrinking 4× per level; a move
+/// is accepted only if it lowers the energy. Same input conventions as fit_min_energy; returns
+/// the directions' angles (radians, absolute) and the energy.
+struct MinEnergyReference {
+  std::vector<double> angles;
+  double energy = 0.0;
+};
+MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOptions& options);
+
+}  // namespace fairspline

@@ -1,0 +1,690 @@
+// Johnson & Johnson minimal-energy curves. See include/fairspline/methods/min_energy.hpp and
+// docs/methods/min-energy.md.
+#include "fairspline/methods/min_energy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <optional>
+#include <string>
+
+#include "detail/input.hpp"
+#include "fairspline/error.hpp"
+
+namespace fairspline {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double wrap(double a) {  // to (−π, π]
+  a = std::remainder(a, 2.0 * kPi);
+  return a <= -kPi ? a + 2.0 * kPi : a;
+}
+
+/// Hyper-dual number a + b ε1 + c ε2 + d ε1ε2 (ε1² = ε2² = 0): exact first and mixed second
+/// derivatives of a smooth expression in one pass (used for the Yong–Cheng energy).
+struct HD {
+  double a = 0, b = 0, c = 0, d = 0;
+};
+HD operator+(HD x, HD y) {
+  return {x.a + y.a, x.b + y.b, x.c + y.c, x.d + y.d};
+}
+HD operator-(HD x, HD y) {
+  return {x.a - y.a, x.b - y.b, x.c - y.c, x.d - y.d};
+}
+HD operator*(HD x, HD y) {
+  return {x.a * y.a, x.a * y.b + x.b * y.a, x.a * y.c + x.c * y.a,
+          x.a * y.d + x.b * y.c + x.c * y.b + x.d * y.a};
+}
+HD operator*(double s, HD x) {
+  return {s * x.a, s * x.b, s * x.c, s * x.d};
+}
+HD operator/(HD x, HD y) {
+  const double inv = 1.0 / y.a;
+  // 1/y = 1/a − b/a² ε1 − c/a² ε2 + (2bc/a³ − d/a²) ε1ε2
+  const HD r{inv, -y.b * inv * inv, -y.c * inv * inv, (2.0 * y.b * y.c * inv - y.d) * inv * inv};
+  return x * r;
+}
+HD hsin(HD x) {
+  const double s = std::sin(x.a), c = std::cos(x.a);
+  return {s, c * x.b, c * x.c, c * x.d - s * x.b * x.c};
+}
+HD hcos(HD x) {
+  const double s = std::sin(x.a), c = std::cos(x.a);
+  return {c, -s * x.b, -s * x.c, -s * x.d - c * x.b * x.c};
+}
+
+/// OGH energy in the sine form of ogh_unit_energy (accurate near straight data).
+HD ogh_energy(HD t, HD p) {
+  const HD st = hsin(t), sp = hsin(p), c = hcos(t - p), sd = hsin(t - p);
+  const HD num = 3.0 * (st * st) + 3.0 * (sp * sp) - 3.0 * (st * sp * c) - 2.0 * (sd * sd);
+  const HD den = HD{4.0} - c * c;
+  return 12.0 * (num / den);
+}
+
+/// E_1 from the cosines and sines of α and β (the optimizer's inner loop).
+BasicEnergy energy_cs(const BasicCurveMethod& m, double ca, double sa, double cb, double sb) {
+  BasicEnergy r;
+  switch (m.basis) {
+    case MinEnergyBasis::kCondG2: {
+      const double l = m.lambda, l2 = 2.0 * l * l, l6 = 6.0 * l;
+      const double cd = ca * cb + sa * sb, sd = sa * cb - ca * sb;  // cos, sin of α − β
+      r.e = l2 * cd - l6 * (ca + cb) + 2.0 * l2 + 6.0;
+      r.ea = -l2 * sd + l6 * sa;
+      r.eb = l2 * sd + l6 * sb;
+      r.eaa = -l2 * cd + l6 * ca;
+      r.ebb = -l2 * cd + l6 * cb;
+      r.eab = l2 * cd;
+      return r;
+    }
+    case MinEnergyBasis::kJaklicZagar:
+      r.e = sa * sa + sb * sb;
+      r.ea = 2.0 * sa * ca;
+      r.eb = 2.0 * sb * cb;
+      r.eaa = 2.0 * (ca * ca - sa * sa);
+      r.ebb = 2.0 * (cb * cb - sb * sb);
+      r.eab = 0.0;
+      return r;
+    case MinEnergyBasis::kYongCheng: {
+      const double a = std::atan2(sa, ca), b = std::atan2(sb, cb);
+      const HD ab = ogh_energy({a, 1, 1, 0}, {b, 0, 0, 0});  // ∂α, ∂²α (ε1 = ε2 = α)
+      const HD bb = ogh_energy({a, 0, 0, 0}, {b, 1, 1, 0});
+      const HD mixed = ogh_energy({a, 1, 0, 0}, {b, 0, 1, 0});
+      r.e = ab.a;
+      r.ea = ab.b;
+      r.eaa = ab.d;
+      r.eb = bb.b;
+      r.ebb = bb.d;
+      r.eab = mixed.d;
+      return r;
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+double BasicCurveMethod::default_omega(MinEnergyBasis basis) {
+  switch (basis) {
+    case MinEnergyBasis::kCondG2:
+      return kPi / 2.0;
+    case MinEnergyBasis::kJaklicZagar:
+      return 80.0 * kPi / 180.0;
+    case MinEnergyBasis::kYongCheng:
+      return kPi / 3.0;
+  }
+  return kPi / 2.0;
+}
+
+BasicEnergy basic_energy(const BasicCurveMethod& method, double alpha, double beta) {
+  return energy_cs(method, std::cos(alpha), std::sin(alpha), std::cos(beta), std::sin(beta));
+}
+
+BasicSpeeds basic_speeds(const BasicCurveMethod& method, double alpha, double beta) {
+  switch (method.basis) {
+    case MinEnergyBasis::kCondG2:
+      return {method.lambda, method.lambda};
+    case MinEnergyBasis::kJaklicZagar:
+      return {std::cos(alpha), std::cos(beta)};
+    case MinEnergyBasis::kYongCheng: {
+      // Example 4.1: s0 = (6 cos α − 3 cos β cos(α−β)) / (4 − cos²(α−β)), s1 = s0(β, α).
+      const double c = std::cos(alpha - beta), den = 4.0 - c * c;
+      return {(6.0 * std::cos(alpha) - 3.0 * std::cos(beta) * c) / den,
+              (6.0 * std::cos(beta) - 3.0 * std::cos(alpha) * c) / den};
+    }
+  }
+  return {1.0, 1.0};
+}
+
+CubicBezier basic_curve(const BasicCurveMethod& method, Point p0, Point p1, double alpha,
+                        double beta) {
+  const Vec2 chord = p1 - p0;
+  const double phi = std::atan2(chord.y, chord.x);
+  const BasicSpeeds s = basic_speeds(method, alpha, beta);
+  // c_L = L·c_1 rotated onto the chord: P'(0) = L s0 e^{i(φ+α)}, P'(1) = L s1 e^{i(φ+β)}.
+  const double L = norm(chord);
+  return {{p0, p0 + (L * s.s0 / 3.0) * from_angle(phi + alpha),
+           p1 - (L * s.s1 / 3.0) * from_angle(phi + beta), p1}};
+}
+
+namespace {
+
+/// One independent chain of nodes (the whole curve, or a piece between corners).
+struct Chain {
+  bool closed = false;
+  std::vector<std::size_t> node;  // point indices
+  // Per node: α of the next segment = x + a, β of the previous = x + b; x ∈ [lo, hi].
+  std::vector<double> ref, ca, sa, cb, sb, lo, hi, x;
+  std::vector<char> fixed;
+  std::vector<double> w;  // per segment: 1 / L
+  std::size_t segments() const { return closed ? node.size() : node.size() - 1; }
+};
+
+struct Evaluation {
+  double energy = 0.0;
+  std::vector<double> g, d, e;  // gradient, Hessian diagonal, off-diagonal (i, i+1)
+};
+
+/// Energy (and, with `derivatives`, gradient and tridiagonal Hessian) of a chain at x.
+double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const double> x,
+                bool derivatives, Evaluation& ev, std::vector<double>& cs) {
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  cs.resize(2 * k);
+  for (std::size_t i = 0; i < k; ++i) {
+    cs[2 * i] = std::cos(x[i]);
+    cs[2 * i + 1] = std::sin(x[i]);
+  }
+  if (derivatives) {
+    ev.g.assign(k, 0.0);
+    ev.d.assign(k, 0.0);
+    ev.e.assign(k, 0.0);
+  }
+  double total = 0.0;
+  for (std::size_t s = 0; s < segs; ++s) {
+    const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+    const double cx = cs[2 * i], sx = cs[2 * i + 1], cy = cs[2 * j], sy = cs[2 * j + 1];
+    // α = x_i + a_i, β = x_j + b_j by the angle-addition formulas.
+    const double ca = cx * ch.ca[i] - sx * ch.sa[i], sa = sx * ch.ca[i] + cx * ch.sa[i];
+    const double cb = cy * ch.cb[j] - sy * ch.sb[j], sb = sy * ch.cb[j] + cy * ch.sb[j];
+    const BasicEnergy be = energy_cs(m, ca, sa, cb, sb);
+    const double w = ch.w[s];
+    total += w * be.e;
+    if (derivatives) {
+      ev.g[i] += w * be.ea;
+      ev.g[j] += w * be.eb;
+      ev.d[i] += w * be.eaa;
+      ev.d[j] += w * be.ebb;
+      ev.e[s] = w * be.eab;  // couples i and j (s = k−1: the corner of a closed chain)
+    }
+  }
+  ev.energy = total;
+  return total;
+}
+
+/// Solves the symmetric (cyclic when `corner`) tridiagonal system by LDLᵀ; false when a pivot is
+/// not positive (matrix not positive definite). d, e as in Evaluation; b is overwritten.
+bool ldl_solve(std::span<const double> d, std::span<const double> e, bool corner,
+               std::span<double> b, std::vector<double>& work) {
+  const std::size_t n = d.size();
+  work.assign(3 * n, 0.0);
+  double* D = work.data();
+  double* l = D + n;      // l[i] = L[i+1][i]
+  double* mlast = l + n;  // L[n−1][i] (cyclic fill-in)
+  const double scale = [&] {
+    double s = 0.0;
+    for (double v : d) s = std::max(s, std::abs(v));
+    return s;
+  }();
+  const double tiny = 1e-14 * scale;
+  if (!corner || n < 3) {
+    for (std::size_t i = 0; i < n; ++i) {
+      D[i] = d[i] - (i > 0 ? l[i - 1] * l[i - 1] * D[i - 1] : 0.0);
+      if (!(D[i] > tiny)) return false;
+      if (i + 1 < n) l[i] = e[i] / D[i];
+    }
+    for (std::size_t i = 1; i < n; ++i) b[i] -= l[i - 1] * b[i - 1];
+    for (std::size_t i = 0; i < n; ++i) b[i] /= D[i];
+    for (std::size_t i = n - 1; i-- > 0;) b[i] -= l[i] * b[i + 1];
+    return true;
+  }
+  const double c = e[n - 1];  // couples n−1 and 0
+  double last = d[n - 1];
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    D[i] = d[i] - (i > 0 ? l[i - 1] * l[i - 1] * D[i - 1] : 0.0);
+    if (!(D[i] > tiny)) return false;
+    const double a_last = i == 0 ? c : 0.0;
+    const double coupling = i + 2 == n ? e[i] : 0.0;  // A[n−1][n−2]
+    mlast[i] = (a_last + coupling - (i > 0 ? mlast[i - 1] * l[i - 1] * D[i - 1] : 0.0)) / D[i];
+    if (i + 2 < n) l[i] = e[i] / D[i];
+    last -= mlast[i] * mlast[i] * D[i];
+  }
+  D[n - 1] = last;
+  if (!(D[n - 1] > tiny)) return false;
+  // Forward (L y = b), the last row uses mlast.
+  for (std::size_t i = 1; i + 1 < n; ++i) b[i] -= l[i - 1] * b[i - 1];
+  for (std::size_t i = 0; i + 1 < n; ++i) b[n - 1] -= mlast[i] * b[i];
+  for (std::size_t i = 0; i < n; ++i) b[i] /= D[i];
+  // Backward (Lᵀ x = z).
+  b[n - 2] -= mlast[n - 2] * b[n - 1];
+  for (std::size_t i = n - 2; i-- > 0;) b[i] -= l[i] * b[i + 1] + mlast[i] * b[n - 1];
+  return true;
+}
+
+struct ChainResult {
+  int iterations = 0;
+  double pg = 0.0;
+  bool converged = false;
+};
+
+/// Projected Newton (bound constraints, active set) on one chain, from ch.x.
+ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
+  const BasicCurveMethod& m = opt.method;
+  const std::size_t k = ch.node.size();
+  const bool cyclic = ch.closed;
+  Evaluation ev, trial;
+  std::vector<double> cs, dir(k), xn(k), dd(k), ee(k), work;
+  ChainResult res;
+  const double tol = opt.tolerance * gscale;
+  auto clampx = [&](std::size_t i, double v) { return std::clamp(v, ch.lo[i], ch.hi[i]); };
+  double energy = evaluate(ch, m, ch.x, true, ev, cs);
+  for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
+    // Projected gradient.
+    double pg = 0.0;
+    for (std::size_t i = 0; i < k; ++i) {
+      if (ch.fixed[i]) continue;
+      pg = std::max(pg, std::abs(ch.x[i] - clampx(i, ch.x[i] - ev.g[i])));
+    }
+    res.pg = pg / gscale;
+    if (pg <= tol) {
+      res.converged = true;
+      return res;
+    }
+    if (res.iterations == opt.max_iterations) break;
+    // Active set (Bertsekas): at a bound with the gradient pushing outwards.
+    const double eps = std::min(1e-8, pg);
+    std::vector<char> active(k, 0);
+    for (std::size_t i = 0; i < k; ++i) {
+      active[i] = ch.fixed[i] || (ch.x[i] <= ch.lo[i] + eps && ev.g[i] > 0.0) ||
+                  (ch.x[i] >= ch.hi[i] - eps && ev.g[i] < 0.0);
+    }
+    // Reduced Newton system, shifted until positive definite.
+    double tau = 0.0, dmax = 0.0;
+    for (std::size_t i = 0; i < k; ++i) dmax = std::max(dmax, std::abs(ev.d[i]));
+    for (int attempt = 0; attempt < 60; ++attempt) {
+      for (std::size_t i = 0; i < k; ++i) {
+        dd[i] = active[i] ? 1.0 : ev.d[i] + tau;
+        const std::size_t j = i + 1 == k ? 0 : i + 1;
+        ee[i] = (active[i] || active[j]) ? 0.0 : ev.e[i];
+        dir[i] = active[i] ? 0.0 : -ev.g[i];
+      }
+      if (!cyclic) ee[k - 1] = 0.0;
+      if (ldl_solve(dd, ee, cyclic, dir, work)) break;
+      tau = tau == 0.0 ? 1e-10 * std::max(dmax, gscale) : 4.0 * tau;
+    }
+    // Projected line search (Armijo along the projection arc).
+    bool accepted = false;
+    for (double step = 1.0; step > 1e-12; step *= 0.5) {
+      double decrease = 0.0;
+      for (std::size_t i = 0; i < k; ++i) {
+        xn[i] = ch.fixed[i] ? ch.x[i] : clampx(i, ch.x[i] + step * dir[i]);
+        decrease += ev.g[i] * (xn[i] - ch.x[i]);
+      }
+      const double en = evaluate(ch, m, xn, false, trial, cs);
+      if (en <= energy + 1e-4 * decrease && decrease < 0.0) {
+        ch.x.swap(xn);
+        energy = evaluate(ch, m, ch.x, true, ev, cs);
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      // Newton direction useless here: one projected steepest-descent step.
+      for (double step = 1.0 / std::max(dmax, 1e-300); step > 1e-30; step *= 0.5) {
+        double decrease = 0.0;
+        for (std::size_t i = 0; i < k; ++i) {
+          xn[i] = ch.fixed[i] ? ch.x[i] : clampx(i, ch.x[i] - step * ev.g[i]);
+          decrease += ev.g[i] * (xn[i] - ch.x[i]);
+        }
+        if (!(decrease < 0.0)) break;
+        const double en = evaluate(ch, m, xn, false, trial, cs);
+        if (en <= energy + 1e-4 * decrease) {
+          ch.x.swap(xn);
+          energy = evaluate(ch, m, ch.x, true, ev, cs);
+          accepted = true;
+          break;
+        }
+      }
+    }
+    if (!accepted) break;  // no descent possible at this precision
+  }
+  double pg = 0.0;
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!ch.fixed[i]) pg = std::max(pg, std::abs(ch.x[i] - clampx(i, ch.x[i] - ev.g[i])));
+  }
+  res.pg = pg / gscale;
+  res.converged = pg <= tol;
+  return res;
+}
+
+std::string deg(double rad) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", rad * 180.0 / kPi);
+  return buf;
+}
+
+/// The chains of the input (split at corners) with references, bounds and fixed directions.
+/// Throws Error(kInfeasible) listing every node whose feasible range is empty.
+std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, double omega) {
+  const std::vector<Point>& P = out.points;
+  const std::size_t n = P.size();
+  const bool closed = out.closed;
+  const std::size_t segs = closed ? n : n - 1;
+  std::vector<double> phi(segs), len(segs);
+  for (std::size_t s = 0; s < segs; ++s) {
+    const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
+    phi[s] = std::atan2(c.y, c.x);
+    len[s] = norm(c);
+  }
+  auto kind = [&](std::size_t i) {
+    return i < input.kinds.size() ? input.kinds[i] : PointKind::kSmooth;
+  };
+  std::vector<std::optional<Vec2>> given(n);
+  for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
+    if (kind(i) == PointKind::kClamped) given[i] = input.tangents[i];
+  }
+  if (!closed && input.start_tangent) given[0] = input.start_tangent;
+  if (!closed && input.end_tangent) given[n - 1] = input.end_tangent;
+  // Chain boundaries: corners (and the ends of an open curve).
+  std::vector<std::size_t> cuts;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kind(i) == PointKind::kCorner && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
+  }
+  std::vector<Chain> chains;
+  auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
+    Chain ch;
+    ch.closed = cyclic;
+    for (std::size_t k = 0; k < count; ++k) ch.node.push_back((first + k) % n);
+    chains.push_back(std::move(ch));
+  };
+  if (!closed) {
+    std::size_t start = 0;
+    for (std::size_t c : cuts) {
+      make(start, c - start + 1, false);
+      start = c;
+    }
+    make(start, n - start, false);
+  } else if (cuts.empty()) {
+    make(0, n, true);
+  } else {
+    for (std::size_t k = 0; k < cuts.size(); ++k) {
+      const std::size_t a = cuts[k], b = cuts[(k + 1) % cuts.size()];
+      make(a, (b + n - a) % n + (b == a ? n : 0) + 1, false);
+    }
+  }
+  std::string bad;
+  std::size_t first_bad = n;
+  auto fail = [&](std::size_t i, const std::string& why) {
+    if (first_bad == n) first_bad = i;
+    if (bad.size() < 600)
+      bad += (bad.empty() ? "" : "; ") + std::string("point ") + std::to_string(i) + " " + why;
+  };
+  for (Chain& ch : chains) {
+    const std::size_t k = ch.node.size(), nseg = ch.segments();
+    ch.ref.resize(k);
+    ch.ca.resize(k);
+    ch.sa.resize(k);
+    ch.cb.resize(k);
+    ch.sb.resize(k);
+    ch.lo.resize(k);
+    ch.hi.resize(k);
+    ch.x.assign(k, 0.0);
+    ch.fixed.assign(k, 0);
+    ch.w.resize(nseg);
+    // Segment s of the chain runs from node s to node s+1 (cyclic).
+    auto seg_of = [&](std::size_t s) { return ch.node[s]; };  // input segment index
+    for (std::size_t s = 0; s < nseg; ++s) ch.w[s] = 1.0 / len[seg_of(s)];
+    for (std::size_t t = 0; t < k; ++t) {
+      const std::size_t i = ch.node[t];
+      const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
+      const double pn = has_next ? phi[seg_of(t)] : 0.0;
+      const double pp = has_prev ? phi[seg_of(t == 0 ? k - 1 : t - 1)] : 0.0;
+      double ref, a = 0.0, b = 0.0, half = 0.0;
+      if (has_next && has_prev) {
+        const double psi = wrap(pn - pp);  // stencil angle ψ_i
+        ref = pp + 0.5 * psi;
+        a = -0.5 * psi;
+        b = 0.5 * psi;
+        half = 0.5 * std::abs(psi);
+        if (std::abs(psi) > 2.0 * omega) {
+          fail(i, "(stencil angle " + deg(psi) + "° > 2Ω = " + deg(2.0 * omega) + "°)");
+        }
+      } else {
+        ref = has_next ? pn : pp;  // Remark 2.4 (a): ψ = 0 at a free end
+      }
+      ch.ref[t] = ref;
+      ch.ca[t] = std::cos(a), ch.sa[t] = std::sin(a);
+      ch.cb[t] = std::cos(b), ch.sb[t] = std::sin(b);
+      ch.lo[t] = -(omega - half);
+      ch.hi[t] = omega - half;
+      if (given[i]) {
+        const double x = wrap(std::atan2(given[i]->y, given[i]->x) - ref);
+        const double al = wrap(x + a), be = wrap(x + b);
+        if ((has_next && std::abs(al) > omega) || (has_prev && std::abs(be) > omega)) {
+          fail(i, "(the given tangent makes an angle of " +
+                      deg(has_next && std::abs(al) > omega ? al : be) +
+                      "° with a chord, beyond Ω = " + deg(omega) + "°)");
+        }
+        ch.x[t] = x;
+        ch.fixed[t] = 1;
+        ch.lo[t] = ch.hi[t] = x;
+      }
+    }
+  }
+  if (first_bad != n) {
+    throw Error(ErrorCode::kInfeasible,
+                "no admissible curve exists (Theorem 2.3: every stencil angle must satisfy "
+                "|ψ| <= 2Ω): " +
+                    bad +
+                    ". Raise omega_deg (at most 90), split the curve with a "
+                    "corner there, or remove the point",
+                first_bad);
+  }
+  return chains;
+}
+
+}  // namespace
+
+void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
+                    FitResult& out, MinEnergyReport* report) {
+  const BasicCurveMethod& m = options.method;
+  if (!(m.omega > 0.0 && m.omega <= kPi / 2.0 + 1e-12)) {
+    throw Error(ErrorCode::kBadOption, "min-energy: omega_deg must lie in (0, 90]");
+  }
+  if (m.basis == MinEnergyBasis::kCondG2 && !(m.lambda > 0.0 && m.lambda < 3.0)) {
+    throw Error(ErrorCode::kBadOption, "min-energy: lambda must lie in (0, 3) (Theorem 4.4)");
+  }
+  if (m.basis == MinEnergyBasis::kJaklicZagar && !(m.omega < kPi / 2.0)) {
+    throw Error(ErrorCode::kBadOption,
+                "min-energy: basis=jaklic-zagar needs omega_deg < 90 (s0 = cos α must stay "
+                "positive, Example 4.2)");
+  }
+  detail::prepare_input(input, {2, 3, "min-energy"}, out);
+  const std::size_t n = out.points.size();
+  std::vector<Chain> chains = build_chains(out, input, m.omega);
+
+  MinEnergyReport rep;
+  rep.pieces = static_cast<int>(chains.size());
+  std::vector<double> dir_angle(n, 0.0);
+  std::vector<std::size_t> seg_angles_owner;
+  // Per input segment: α, β.
+  const std::size_t segs = out.closed ? n : n - 1;
+  std::vector<double> alpha(segs), beta(segs);
+  for (Chain& ch : chains) {
+    double gscale = 0.0;
+    for (double w : ch.w) gscale = std::max(gscale, w);
+    const ChainResult r = optimize(ch, options, gscale);
+    rep.iterations = std::max(rep.iterations, r.iterations);
+    rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
+    if (!r.converged) {
+      throw Error(ErrorCode::kNotConverged,
+                  "min-energy: the projected Newton method stopped after " +
+                      std::to_string(r.iterations) + " iterations with projected gradient " +
+                      std::to_string(r.pg) + " (relative), above the tolerance",
+                  ch.node.front());
+    }
+    const std::size_t k = ch.node.size();
+    for (std::size_t t = 0; t < k; ++t) {
+      const double x = ch.x[t];
+      if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
+        rep.active.push_back(ch.node[t]);
+      }
+      // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
+      if (ch.closed || t + 1 < k || ch.node[t] == n - 1) dir_angle[ch.node[t]] = ch.ref[t] + x;
+    }
+    for (std::size_t s = 0; s < ch.segments(); ++s) {
+      const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+      const std::size_t seg = ch.node[s];
+      alpha[seg] = std::atan2(ch.sa[i], ch.ca[i]) + ch.x[i];
+      beta[seg] = std::atan2(ch.sb[j], ch.cb[j]) + ch.x[j];
+      const BasicEnergy be = basic_energy(m, alpha[seg], beta[seg]);
+      rep.energy += ch.w[s] * be.e;
+    }
+  }
+  std::sort(rep.active.begin(), rep.active.end());
+
+  out.spline.closed = out.closed;
+  out.spline.segments.clear();
+  out.spline.segments.reserve(segs);
+  for (std::size_t s = 0; s < segs; ++s) {
+    const std::size_t j = s + 1 == n ? 0 : s + 1;
+    out.spline.segments.push_back({basic_curve(m, out.points[s], out.points[j], alpha[s], beta[s]),
+                                   out.knots[s], out.knots[s + 1], s});
+  }
+  out.tangents.resize(n);
+  for (std::size_t i = 0; i < n; ++i) out.tangents[i] = from_angle(dir_angle[i]);
+
+  out.method_report = {{"iterations", rep.iterations},
+                       {"energy", rep.energy},
+                       {"projected_gradient", rep.projected_gradient},
+                       {"status", "converged"},
+                       {"pieces", rep.pieces}};
+  if (level != ReportLevel::kNone) {
+    out.method_report["active"] = rep.active;
+    out.method_report["omega_deg"] = m.omega * 180.0 / kPi;
+  }
+  if (report) *report = std::move(rep);
+}
+
+MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOptions& options) {
+  FitResult out;
+  detail::prepare_input(input, {2, 3, "min-energy"}, out);
+  std::vector<Chain> chains = build_chains(out, input, options.method.omega);
+  MinEnergyReference ref;
+  ref.angles.assign(out.points.size(), 0.0);
+  Evaluation ev;
+  std::vector<double> cs;
+  for (Chain& ch : chains) {
+    const std::size_t k = ch.node.size();
+    double energy = evaluate(ch, options.method, ch.x, false, ev, cs);
+    auto try_move = [&](std::size_t t, double delta) {
+      const double old = ch.x[t], x = old + delta;
+      if (x < ch.lo[t] || x > ch.hi[t]) return false;
+      ch.x[t] = x;
+      const double e = evaluate(ch, options.method, ch.x, false, ev, cs);
+      if (e < energy) {
+        energy = e;
+        return true;
+      }
+      ch.x[t] = old;
+      return false;
+    };
+    double step = kPi / 180.0;
+    for (int level = 0; level <= 10; ++level, step /= 4.0) {
+      for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t t = 0; t < k; ++t) {
+          if (ch.fixed[t]) continue;
+          if (level == 0) {
+            // Best of the 360 one-degree offsets of this direction.
+            const double old = ch.x[t];
+            double best = old;
+            for (int o = -180; o < 180; ++o) {
+              const double x = old + o * step;
+              if (o == 0 || x < ch.lo[t] || x > ch.hi[t]) continue;
+              ch.x[t] = x;
+              const double e = evaluate(ch, options.method, ch.x, false, ev, cs);
+              if (e < energy) energy = e, best = x, changed = true;
+            }
+            ch.x[t] = best;
+          } else {
+            while (try_move(t, step) || try_move(t, -step)) changed = true;
+          }
+        }
+      }
+    }
+    ref.energy += energy;
+    for (std::size_t t = 0; t < k; ++t) ref.angles[ch.node[t]] = ch.ref[t] + ch.x[t];
+  }
+  return ref;
+}
+
+}  // namespace fairspline
+
+// ---- registry entries ----
+#include "methods/builtin.hpp"
+
+namespace fairspline::detail {
+
+std::vector<MethodInfo> min_energy_methods() {
+  auto make = [](std::string name, std::string description, std::string basis) {
+    MethodInfo m{
+        std::move(name),
+        std::move(description),
+        "T. Johnson, J. Johnson, A constructive framework for minimal energy planar curves, "
+        "Sections 2-6, Examples 1.1, 4.1, 4.2, Theorem 4.4",
+        {OptionSpec{"basis",
+                    OptionType::kChoice,
+                    basis,
+                    std::nullopt,
+                    std::nullopt,
+                    {"quasi-elastic", "cond-g2", "jaklic-zagar", "yong-cheng"},
+                    "basic curve method: quasi-elastic (conditionally G2 cubic, lambda = 1), "
+                    "cond-g2 (shape parameter lambda), jaklic-zagar (Example 4.2), yong-cheng "
+                    "(OGH cubic, Example 4.1)"},
+         OptionSpec{"lambda",
+                    OptionType::kNumber,
+                    1.0,
+                    0.0,
+                    3.0,
+                    {},
+                    "shape parameter of cond-g2, in the open interval (0, 3) (Theorem 4.4)"},
+         OptionSpec{"omega_deg",
+                    OptionType::kNumber,
+                    nullptr,
+                    0.0,
+                    90.0,
+                    {},
+                    "feasibility bound Ω in degrees: |α|, |β| <= Ω at every chord; default 90 "
+                    "(quasi-elastic, cond-g2), 80 (jaklic-zagar), 60 (yong-cheng)"},
+         OptionSpec{"max_iterations",
+                    OptionType::kInteger,
+                    200,
+                    1.0,
+                    100000.0,
+                    {},
+                    "projected Newton iteration limit (an error if reached)"}},
+        [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
+          MinEnergyOptions opt;
+          const std::string b = o.at("basis").get<std::string>();
+          opt.method.basis = b == "jaklic-zagar" ? MinEnergyBasis::kJaklicZagar
+                             : b == "yong-cheng" ? MinEnergyBasis::kYongCheng
+                                                 : MinEnergyBasis::kCondG2;
+          opt.method.lambda = b == "quasi-elastic" ? 1.0 : o.at("lambda").get<double>();
+          opt.method.omega = o.contains("omega_deg") && !o.at("omega_deg").is_null()
+                                 ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
+                                 : BasicCurveMethod::default_omega(opt.method.basis);
+          opt.max_iterations = o.at("max_iterations").get<int>();
+          fit_min_energy(in, opt, level, out);
+        },
+        /*checks_own_output=*/false};
+    return m;
+  };
+  return {make("quasi-elastic",
+               "Minimal-energy G1 cubic spline (Johnson-Johnson) with the quasi-elastic basic "
+               "curve: tangent directions minimize the total energy subject to |angle to each "
+               "chord| <= 90 degrees; G2 wherever no bound is active; regular.",
+               "quasi-elastic"),
+          make("min-energy",
+               "Johnson-Johnson minimal-energy framework over a choice of basic curve methods "
+               "(option basis), solved by a projected Newton method with O(n) work per "
+               "iteration.",
+               "quasi-elastic"),
+          make("cond-g2",
+               "Minimal-energy curve with the conditionally G2 cubic of shape parameter lambda "
+               "(Theorem 4.4).",
+               "cond-g2")};
+}
+
+}  // namespace fairspline::detail
