@@ -7,7 +7,8 @@ bench/bench_data.hpp), alpha-parameterized knots t_{i+1} = t_i + |P_{i+1} - P_i|
     CubicSpline(t, xy, bc_type='natural', axis=0)       (open)
     CubicSpline(t, xy + [xy[0]], bc_type='periodic')    (closed)
 timed best of --repeat, knot computation included. `--peer pchip|akima` times SciPy's local
-interpolants instead (peers for the local methods).
+interpolants instead (peers for the local methods); `--peer linear` the linear spline
+make_interp_spline(t, xy, k=1) (the peer of the minimal-energy methods' speed goal).
 
 fairspline is timed by
   * the benchmark binary (--bench, default build/bench/fairspline_bench), benchmark
@@ -47,7 +48,8 @@ import time
 
 import numpy as np
 import scipy
-from scipy.interpolate import Akima1DInterpolator, CubicSpline, PchipInterpolator
+from scipy.interpolate import (Akima1DInterpolator, CubicSpline, PchipInterpolator,
+                               make_interp_spline)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -98,13 +100,16 @@ def scipy_fit(xy, alpha, closed, peer):
         return CubicSpline(t, xy, bc_type="periodic" if closed else "natural", axis=0)
     if peer == "pchip":
         return PchipInterpolator(t, xy, axis=0)
+    if peer == "linear":
+        return make_interp_spline(t, xy, k=1, axis=0)
     return Akima1DInterpolator(t, xy, axis=0)
 
 
 def peer_label(peer, closed):
     if peer == "cubic":
         return "SciPy CubicSpline " + ("periodic" if closed else "natural")
-    return {"pchip": "SciPy PchipInterpolator", "akima": "SciPy Akima1DInterpolator"}[peer]
+    return {"pchip": "SciPy PchipInterpolator", "akima": "SciPy Akima1DInterpolator",
+            "linear": "SciPy make_interp_spline k=1 (linear)"}[peer]
 
 
 def time_scipy(xy, alpha, closed, peer, repeat):
@@ -208,8 +213,9 @@ def time_cli(cli, method, n, closed, alpha, repeat, timeout):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--method", default="li-strain", help="fairspline method (default li-strain)")
-    ap.add_argument("--peer", choices=("cubic", "pchip", "akima"), default="cubic",
-                    help="SciPy peer: CubicSpline natural/periodic (default), Pchip or Akima")
+    ap.add_argument("--peer", choices=("cubic", "pchip", "akima", "linear"), default="cubic",
+                    help="SciPy peer: CubicSpline natural/periodic (default), Pchip, Akima or "
+                    "the linear spline make_interp_spline(k=1)")
     ap.add_argument("--n", type=int, default=1_000_000, help="number of points (default 1e6)")
     ap.add_argument("--closed", action="store_true", help="closed curve (SciPy: periodic)")
     ap.add_argument("--alpha", type=float, default=DEFAULT_ALPHA, help="knot exponent in [0, 1]")

@@ -312,7 +312,11 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
         decrease += ev.g[i] * (xn[i] - ch.x[i]);
       }
       const double en = evaluate(ch, m, xn, false, trial, cs);
-      if (en <= energy + 1e-4 * decrease && decrease < 0.0) {
+      // Armijo; near the optimum the decrease falls below the rounding of the total, so a full
+      // Newton step that does not raise the energy beyond that rounding is taken too.
+      const bool rounding =
+          step == 1.0 && en <= energy + 1e-14 * std::abs(energy) * std::sqrt(double(k));
+      if ((en <= energy + 1e-4 * decrease || rounding) && decrease < 0.0) {
         ch.x.swap(xn);
         energy = evaluate(ch, m, ch.x, true, ev, cs);
         accepted = true;
@@ -557,54 +561,76 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   if (report) *report = std::move(rep);
 }
 
+namespace {
+
+/// Energy of the (at most two) segments of a chain that touch node t, for direction offset x.
+double local_energy(const Chain& ch, const BasicCurveMethod& m, std::size_t t, double x) {
+  const std::size_t k = ch.node.size();
+  const double cx = std::cos(x), sx = std::sin(x);
+  double e = 0.0;
+  if (ch.closed || t + 1 < k) {  // segment t: α at t, β at t+1
+    const std::size_t j = t + 1 == k ? 0 : t + 1;
+    const double ca = cx * ch.ca[t] - sx * ch.sa[t], sa = sx * ch.ca[t] + cx * ch.sa[t];
+    const double cy = std::cos(ch.x[j]), sy = std::sin(ch.x[j]);
+    const double cb = cy * ch.cb[j] - sy * ch.sb[j], sb = sy * ch.cb[j] + cy * ch.sb[j];
+    e += ch.w[t] * energy_cs(m, ca, sa, cb, sb).e;
+  }
+  if (ch.closed || t > 0) {  // segment t−1: α at t−1, β at t
+    const std::size_t i = t == 0 ? k - 1 : t - 1;
+    const double cy = std::cos(ch.x[i]), sy = std::sin(ch.x[i]);
+    const double ca = cy * ch.ca[i] - sy * ch.sa[i], sa = sy * ch.ca[i] + cy * ch.sa[i];
+    const double cb = cx * ch.cb[t] - sx * ch.sb[t], sb = sx * ch.cb[t] + cx * ch.sb[t];
+    e += ch.w[i] * energy_cs(m, ca, sa, cb, sb).e;
+  }
+  return e;
+}
+
+}  // namespace
+
 MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOptions& options) {
   FitResult out;
   detail::prepare_input(input, {2, 3, "min-energy"}, out);
   std::vector<Chain> chains = build_chains(out, input, options.method.omega);
+  const BasicCurveMethod& m = options.method;
   MinEnergyReference ref;
   ref.angles.assign(out.points.size(), 0.0);
   Evaluation ev;
   std::vector<double> cs;
   for (Chain& ch : chains) {
     const std::size_t k = ch.node.size();
-    double energy = evaluate(ch, options.method, ch.x, false, ev, cs);
-    auto try_move = [&](std::size_t t, double delta) {
-      const double old = ch.x[t], x = old + delta;
-      if (x < ch.lo[t] || x > ch.hi[t]) return false;
-      ch.x[t] = x;
-      const double e = evaluate(ch, options.method, ch.x, false, ev, cs);
-      if (e < energy) {
-        energy = e;
-        return true;
-      }
-      ch.x[t] = old;
-      return false;
-    };
     double step = kPi / 180.0;
     for (int level = 0; level <= 10; ++level, step /= 4.0) {
       for (bool changed = true; changed;) {
         changed = false;
         for (std::size_t t = 0; t < k; ++t) {
           if (ch.fixed[t]) continue;
-          if (level == 0) {
-            // Best of the 360 one-degree offsets of this direction.
-            const double old = ch.x[t];
-            double best = old;
+          const double old = ch.x[t];
+          double best = old, best_e = local_energy(ch, m, t, old);
+          if (level == 0) {  // the best of the 360 one-degree offsets
             for (int o = -180; o < 180; ++o) {
               const double x = old + o * step;
               if (o == 0 || x < ch.lo[t] || x > ch.hi[t]) continue;
-              ch.x[t] = x;
-              const double e = evaluate(ch, options.method, ch.x, false, ev, cs);
-              if (e < energy) energy = e, best = x, changed = true;
+              const double e = local_energy(ch, m, t, x);
+              if (e < best_e) best_e = e, best = x;
             }
+          } else {  // steps of the current size while they lower the energy
+            for (double dirn : {1.0, -1.0}) {
+              for (double x = best + dirn * step; x >= ch.lo[t] && x <= ch.hi[t];
+                   x += dirn * step) {
+                const double e = local_energy(ch, m, t, x);
+                if (!(e < best_e)) break;
+                best_e = e, best = x;
+              }
+            }
+          }
+          if (best != old) {
             ch.x[t] = best;
-          } else {
-            while (try_move(t, step) || try_move(t, -step)) changed = true;
+            changed = true;
           }
         }
       }
     }
-    ref.energy += energy;
+    ref.energy += evaluate(ch, m, ch.x, false, ev, cs);
     for (std::size_t t = 0; t < k; ++t) ref.angles[ch.node[t]] = ch.ref[t] + ch.x[t];
   }
   return ref;
