@@ -104,6 +104,21 @@ BasicEnergy energy_cs(const BasicCurveMethod& m, double ca, double sa, double cb
   return r;
 }
 
+BasicSpeeds speeds_cs(const BasicCurveMethod& m, double ca, double sa, double cb, double sb) {
+  switch (m.basis) {
+    case MinEnergyBasis::kCondG2:
+      return {m.lambda, m.lambda};
+    case MinEnergyBasis::kJaklicZagar:
+      return {ca, cb};
+    case MinEnergyBasis::kYongCheng: {
+      // Example 4.1: s0 = (6 cos α − 3 cos β cos(α−β)) / (4 − cos²(α−β)), s1 = s0(β, α).
+      const double c = ca * cb + sa * sb, den = 4.0 - c * c;
+      return {(6.0 * ca - 3.0 * cb * c) / den, (6.0 * cb - 3.0 * ca * c) / den};
+    }
+  }
+  return {1.0, 1.0};
+}
+
 }  // namespace
 
 double BasicCurveMethod::default_omega(MinEnergyBasis basis) {
@@ -123,19 +138,7 @@ BasicEnergy basic_energy(const BasicCurveMethod& method, double alpha, double be
 }
 
 BasicSpeeds basic_speeds(const BasicCurveMethod& method, double alpha, double beta) {
-  switch (method.basis) {
-    case MinEnergyBasis::kCondG2:
-      return {method.lambda, method.lambda};
-    case MinEnergyBasis::kJaklicZagar:
-      return {std::cos(alpha), std::cos(beta)};
-    case MinEnergyBasis::kYongCheng: {
-      // Example 4.1: s0 = (6 cos α − 3 cos β cos(α−β)) / (4 − cos²(α−β)), s1 = s0(β, α).
-      const double c = std::cos(alpha - beta), den = 4.0 - c * c;
-      return {(6.0 * std::cos(alpha) - 3.0 * std::cos(beta) * c) / den,
-              (6.0 * std::cos(beta) - 3.0 * std::cos(alpha) * c) / den};
-    }
-  }
-  return {1.0, 1.0};
+  return speeds_cs(method, std::cos(alpha), std::sin(alpha), std::cos(beta), std::sin(beta));
 }
 
 CubicBezier basic_curve(const BasicCurveMethod& method, Point p0, Point p1, double alpha,
@@ -172,10 +175,7 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
                 bool derivatives, Evaluation& ev, std::vector<double>& cs) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
   cs.resize(2 * k);
-  for (std::size_t i = 0; i < k; ++i) {
-    cs[2 * i] = std::cos(x[i]);
-    cs[2 * i + 1] = std::sin(x[i]);
-  }
+  for (std::size_t i = 0; i < k; ++i) ::sincos(x[i], &cs[2 * i + 1], &cs[2 * i]);
   if (derivatives) {
     ev.g.assign(k, 0.0);
     ev.d.assign(k, 0.0);
@@ -219,13 +219,19 @@ bool ldl_solve(std::span<const double> d, std::span<const double> e, bool corner
   }();
   const double tiny = 1e-14 * scale;
   if (!corner || n < 3) {
+    // D_i = d_i − l_{i−1} e_{i−1} (= d_i − l² D_{i−1}); one division per row.
+    double prev = 0.0;  // l_{i−1} e_{i−1}
     for (std::size_t i = 0; i < n; ++i) {
-      D[i] = d[i] - (i > 0 ? l[i - 1] * l[i - 1] * D[i - 1] : 0.0);
-      if (!(D[i] > tiny)) return false;
-      if (i + 1 < n) l[i] = e[i] / D[i];
+      const double piv = d[i] - prev;
+      if (!(piv > tiny)) return false;
+      D[i] = 1.0 / piv;
+      if (i + 1 < n) {
+        l[i] = e[i] * D[i];
+        prev = l[i] * e[i];
+      }
     }
     for (std::size_t i = 1; i < n; ++i) b[i] -= l[i - 1] * b[i - 1];
-    for (std::size_t i = 0; i < n; ++i) b[i] /= D[i];
+    for (std::size_t i = 0; i < n; ++i) b[i] *= D[i];
     for (std::size_t i = n - 1; i-- > 0;) b[i] -= l[i] * b[i + 1];
     return true;
   }
@@ -265,16 +271,17 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const bool cyclic = ch.closed;
   Evaluation ev, trial;
   std::vector<double> cs, dir(k), xn(k), dd(k), ee(k), work;
+  std::vector<char> active(k, 0);
   ChainResult res;
   const double tol = opt.tolerance * gscale;
   auto clampx = [&](std::size_t i, double v) { return std::clamp(v, ch.lo[i], ch.hi[i]); };
   double energy = evaluate(ch, m, ch.x, true, ev, cs);
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
-    // Projected gradient.
-    double pg = 0.0;
+    // Projected gradient and the largest Hessian diagonal entry.
+    double pg = 0.0, dmax = 0.0;
     for (std::size_t i = 0; i < k; ++i) {
-      if (ch.fixed[i]) continue;
-      pg = std::max(pg, std::abs(ch.x[i] - clampx(i, ch.x[i] - ev.g[i])));
+      dmax = std::max(dmax, std::abs(ev.d[i]));
+      if (!ch.fixed[i]) pg = std::max(pg, std::abs(ch.x[i] - clampx(i, ch.x[i] - ev.g[i])));
     }
     res.pg = pg / gscale;
     if (pg <= tol) {
@@ -284,14 +291,12 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     if (res.iterations == opt.max_iterations) break;
     // Active set (Bertsekas): at a bound with the gradient pushing outwards.
     const double eps = std::min(1e-8, pg);
-    std::vector<char> active(k, 0);
     for (std::size_t i = 0; i < k; ++i) {
       active[i] = ch.fixed[i] || (ch.x[i] <= ch.lo[i] + eps && ev.g[i] > 0.0) ||
                   (ch.x[i] >= ch.hi[i] - eps && ev.g[i] < 0.0);
     }
     // Reduced Newton system, shifted until positive definite.
-    double tau = 0.0, dmax = 0.0;
-    for (std::size_t i = 0; i < k; ++i) dmax = std::max(dmax, std::abs(ev.d[i]));
+    double tau = 0.0;
     for (int attempt = 0; attempt < 60; ++attempt) {
       for (std::size_t i = 0; i < k; ++i) {
         dd[i] = active[i] ? 1.0 : ev.d[i] + tau;
@@ -311,14 +316,20 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
         xn[i] = ch.fixed[i] ? ch.x[i] : clampx(i, ch.x[i] + step * dir[i]);
         decrease += ev.g[i] * (xn[i] - ch.x[i]);
       }
-      const double en = evaluate(ch, m, xn, false, trial, cs);
+      // The full step is evaluated with derivatives (it is usually accepted: Newton).
+      const double en = evaluate(ch, m, xn, step == 1.0, trial, cs);
       // Armijo; near the optimum the decrease falls below the rounding of the total, so a full
       // Newton step that does not raise the energy beyond that rounding is taken too.
       const bool rounding =
           step == 1.0 && en <= energy + 1e-14 * std::abs(energy) * std::sqrt(double(k));
       if ((en <= energy + 1e-4 * decrease || rounding) && decrease < 0.0) {
         ch.x.swap(xn);
-        energy = evaluate(ch, m, ch.x, true, ev, cs);
+        if (step == 1.0) {
+          std::swap(ev, trial);
+          energy = en;
+        } else {
+          energy = evaluate(ch, m, ch.x, true, ev, cs);
+        }
         accepted = true;
         break;
       }
@@ -500,11 +511,11 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
 
   MinEnergyReport rep;
   rep.pieces = static_cast<int>(chains.size());
-  std::vector<double> dir_angle(n, 0.0);
-  std::vector<std::size_t> seg_angles_owner;
-  // Per input segment: α, β.
   const std::size_t segs = out.closed ? n : n - 1;
-  std::vector<double> alpha(segs), beta(segs);
+  out.spline.closed = out.closed;
+  out.spline.segments.resize(segs);
+  out.tangents.resize(n);
+  std::vector<Vec2> u;  // unit direction per chain node
   for (Chain& ch : chains) {
     double gscale = 0.0;
     for (double w : ch.w) gscale = std::max(gscale, w);
@@ -519,35 +530,34 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
                   ch.node.front());
     }
     const std::size_t k = ch.node.size();
+    u.resize(k);
     for (std::size_t t = 0; t < k; ++t) {
       const double x = ch.x[t];
       if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
         rep.active.push_back(ch.node[t]);
       }
+      u[t] = from_angle(ch.ref[t] + x);
       // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
-      if (ch.closed || t + 1 < k || ch.node[t] == n - 1) dir_angle[ch.node[t]] = ch.ref[t] + x;
+      if (ch.closed || t + 1 < k || ch.node[t] == n - 1) out.tangents[ch.node[t]] = u[t];
     }
+    // Each segment's cubic from the unit directions: cos/sin of α, β against the chord.
     for (std::size_t s = 0; s < ch.segments(); ++s) {
       const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
       const std::size_t seg = ch.node[s];
-      alpha[seg] = std::atan2(ch.sa[i], ch.ca[i]) + ch.x[i];
-      beta[seg] = std::atan2(ch.sb[j], ch.cb[j]) + ch.x[j];
-      const BasicEnergy be = basic_energy(m, alpha[seg], beta[seg]);
-      rep.energy += ch.w[s] * be.e;
+      const Point p0 = out.points[seg], p1 = out.points[seg + 1 == n ? 0 : seg + 1];
+      const double L = 1.0 / ch.w[s];
+      const Vec2 c = (p1 - p0) * ch.w[s];
+      const double ca = dot(u[i], c), sa = cross(c, u[i]), cb = dot(u[j], c), sb = cross(c, u[j]);
+      rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
+      const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
+      out.spline.segments[seg] = {
+          {{p0, p0 + (L * sp.s0 / 3.0) * u[i], p1 - (L * sp.s1 / 3.0) * u[j], p1}},
+          out.knots[seg],
+          out.knots[seg + 1],
+          seg};
     }
   }
   std::sort(rep.active.begin(), rep.active.end());
-
-  out.spline.closed = out.closed;
-  out.spline.segments.clear();
-  out.spline.segments.reserve(segs);
-  for (std::size_t s = 0; s < segs; ++s) {
-    const std::size_t j = s + 1 == n ? 0 : s + 1;
-    out.spline.segments.push_back({basic_curve(m, out.points[s], out.points[j], alpha[s], beta[s]),
-                                   out.knots[s], out.knots[s + 1], s});
-  }
-  out.tangents.resize(n);
-  for (std::size_t i = 0; i < n; ++i) out.tangents[i] = from_angle(dir_angle[i]);
 
   out.method_report = {{"iterations", rep.iterations},
                        {"energy", rep.energy},
