@@ -71,6 +71,8 @@ BasicEnergy energy_cs(const BasicCurveMethod& m, double ca, double sa, double cb
     case MinEnergyBasis::kCondG2: {
       const double l = m.lambda, l2 = 2.0 * l * l, l6 = 6.0 * l;
       const double cd = ca * cb + sa * sb, sd = sa * cb - ca * sb;  // cos, sin of α − β
+      // Cancels terms of size ~6λ(λ+2) near straight data: the line search allows for that
+      // rounding (rounding_scale).
       r.e = l2 * cd - l6 * (ca + cb) + 2.0 * l2 + 6.0;
       r.ea = -l2 * sd + l6 * sa;
       r.eb = l2 * sd + l6 * sb;
@@ -276,6 +278,14 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const double tol = opt.tolerance * gscale;
   auto clampx = [&](std::size_t i, double v) { return std::clamp(v, ch.lo[i], ch.hi[i]); };
   double energy = evaluate(ch, m, ch.x, true, ev, cs);
+  // Size of the rounding in a computed total energy: cond-G2's E_1 cancels terms of size
+  // 6λ² + 12λ + 6 per unit chord; the other bases' sine forms do not cancel.
+  double wsum = 0.0;
+  for (double w : ch.w) wsum += w;
+  const double term =
+      m.basis == MinEnergyBasis::kCondG2 ? 6.0 * m.lambda * m.lambda + 12.0 * m.lambda + 6.0 : 0.0;
+  const double rounding_scale =
+      1e-14 * (term * wsum + std::abs(energy)) * std::sqrt(static_cast<double>(k));
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
     // Projected gradient and the largest Hessian diagonal entry.
     double pg = 0.0, dmax = 0.0;
@@ -320,8 +330,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       const double en = evaluate(ch, m, xn, step == 1.0, trial, cs);
       // Armijo; near the optimum the decrease falls below the rounding of the total, so a full
       // Newton step that does not raise the energy beyond that rounding is taken too.
-      const bool rounding =
-          step == 1.0 && en <= energy + 1e-14 * std::abs(energy) * std::sqrt(double(k));
+      const bool rounding = step == 1.0 && en <= energy + rounding_scale;
       if ((en <= energy + 1e-4 * decrease || rounding) && decrease < 0.0) {
         ch.x.swap(xn);
         if (step == 1.0) {
@@ -363,6 +372,12 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   return res;
 }
 
+std::string sci(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 std::string deg(double rad) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2f", rad * 180.0 / kPi);
@@ -389,7 +404,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
     if (kind(i) == PointKind::kClamped) given[i] = input.tangents[i];
   }
-  if (!closed && input.start_tangent) given[0] = input.start_tangent;
+  if (input.start_tangent) given[0] = input.start_tangent;
   if (!closed && input.end_tangent) given[n - 1] = input.end_tangent;
   // Chain boundaries: corners (and the ends of an open curve).
   std::vector<std::size_t> cuts;
@@ -500,6 +515,11 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   if (m.basis == MinEnergyBasis::kCondG2 && !(m.lambda > 0.0 && m.lambda < 3.0)) {
     throw Error(ErrorCode::kBadOption, "min-energy: lambda must lie in (0, 3) (Theorem 4.4)");
   }
+  if (m.basis == MinEnergyBasis::kYongCheng && !(m.omega < std::acos(1.0 / 3.0))) {
+    throw Error(ErrorCode::kBadOption,
+                "min-energy: basis=yong-cheng needs omega_deg < 70.52 (acos 1/3): beyond it the "
+                "OGH speeds of Example 4.1 can turn negative and reverse a tangent");
+  }
   if (m.basis == MinEnergyBasis::kJaklicZagar && !(m.omega < kPi / 2.0)) {
     throw Error(ErrorCode::kBadOption,
                 "min-energy: basis=jaklic-zagar needs omega_deg < 90 (s0 = cos α must stay "
@@ -526,7 +546,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       throw Error(ErrorCode::kNotConverged,
                   "min-energy: the projected Newton method stopped after " +
                       std::to_string(r.iterations) + " iterations with projected gradient " +
-                      std::to_string(r.pg) + " (relative), above the tolerance",
+                      sci(r.pg) + " (relative), above the tolerance " + sci(options.tolerance),
                   ch.node.front());
     }
     const std::size_t k = ch.node.size();
@@ -538,7 +558,9 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       }
       u[t] = from_angle(ch.ref[t] + x);
       // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
-      if (ch.closed || t + 1 < k || ch.node[t] == n - 1) out.tangents[ch.node[t]] = u[t];
+      if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
+        out.tangents[ch.node[t]] = u[t];
+      }
     }
     // Each segment's cubic from the unit directions: cos/sin of α, β against the chord.
     for (std::size_t s = 0; s < ch.segments(); ++s) {
@@ -641,7 +663,11 @@ MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOp
       }
     }
     ref.energy += evaluate(ch, m, ch.x, false, ev, cs);
-    for (std::size_t t = 0; t < k; ++t) ref.angles[ch.node[t]] = ch.ref[t] + ch.x[t];
+    for (std::size_t t = 0; t < k; ++t) {  // outgoing direction at corners, as fit_min_energy
+      if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == out.points.size() - 1)) {
+        ref.angles[ch.node[t]] = ch.ref[t] + ch.x[t];
+      }
+    }
   }
   return ref;
 }
@@ -658,7 +684,7 @@ std::vector<MethodInfo> min_energy_methods() {
     MethodInfo m{
         std::move(name),
         std::move(description),
-        "T. Johnson, J. Johnson, A constructive framework for minimal energy planar curves, "
+        "M. J. Johnson, H. S. Johnson, A constructive framework for minimal energy planar curves, "
         "Sections 2-6, Examples 1.1, 4.1, 4.2, Theorem 4.4",
         {OptionSpec{"basis",
                     OptionType::kChoice,
@@ -697,7 +723,12 @@ std::vector<MethodInfo> min_energy_methods() {
           opt.method.basis = b == "jaklic-zagar" ? MinEnergyBasis::kJaklicZagar
                              : b == "yong-cheng" ? MinEnergyBasis::kYongCheng
                                                  : MinEnergyBasis::kCondG2;
-          opt.method.lambda = b == "quasi-elastic" ? 1.0 : o.at("lambda").get<double>();
+          opt.method.lambda = o.at("lambda").get<double>();
+          if (b == "quasi-elastic" && opt.method.lambda != 1.0) {
+            throw Error(ErrorCode::kBadOption,
+                        "option lambda applies to basis=cond-g2; the quasi-elastic cubic is "
+                        "lambda = 1 (use -m cond-g2 --set lambda=...)");
+          }
           opt.method.omega = o.contains("omega_deg") && !o.at("omega_deg").is_null()
                                  ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
                                  : BasicCurveMethod::default_omega(opt.method.basis);

@@ -1,6 +1,6 @@
 // Johnson & Johnson's minimal-energy framework: every tangent direction is chosen so that the
 // total energy of the admissible curve (a basic curve per span) is minimal.
-// Paper: T. Johnson, J. Johnson, "A constructive framework for minimal energy planar curves"
+// Paper: M. J. Johnson, H. S. Johnson, "A constructive framework for minimal energy planar curves"
 // (Sections 2–6, Examples 1.1, 4.1, 4.2, Theorem 4.4). See docs/methods/min-energy.md.
 //
 // A basic curve method maps a chord of length L and the end angles (α, β) — the angles of the

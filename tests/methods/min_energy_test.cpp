@@ -1,0 +1,1047 @@
+// Tests of Johnson & Johnson's minimal-energy framework (src/methods/min_energy.cpp): the basic
+// curves and energies of Examples 1.1, 4.1, 4.2 and Theorem 4.4 against quadrature, (4.1)'s end
+// curvatures and (3.1); derivatives against finite differences and Remark 4.5's Hessian;
+// Theorem 3.3 (conditional G2, natural ends), Example 5.2 (no active bound), Proposition 6.3
+// (green zone: unique, G2 minimum, reached from random starts); the projected Newton solver
+// against the slow coordinate-descent reference on open / closed / clamped / cornered data; the
+// errors; and invariance of the minimum under similarities, mirroring and reversal.
+#include "fairspline/methods/min_energy.hpp"
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fairspline/error.hpp"
+#include "fairspline/methods/yong_cheng.hpp"
+#include "fairspline/registry.hpp"
+#include "test_util.hpp"
+
+namespace fairspline {
+namespace {
+
+using testing::random_walk;
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+/// fn throws Error with `code` and a message containing every one of `parts`.
+template <typename F>
+Error expect_error(ErrorCode code, F&& fn, const std::vector<std::string>& parts = {}) {
+  const Error e = testing::expect_error(std::forward<F>(fn));
+  EXPECT_EQ(e.code(), code) << e.what();
+  for (const std::string& part : parts) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
+  }
+  return e;
+}
+
+BasicCurveMethod cond_g2(double lambda, double omega = kPi / 2) {
+  return {MinEnergyBasis::kCondG2, lambda, omega};
+}
+BasicCurveMethod jaklic_zagar(double omega = 80 * kDeg) {
+  return {MinEnergyBasis::kJaklicZagar, 1.0, omega};
+}
+BasicCurveMethod yong_cheng(double omega = 60 * kDeg) {
+  return {MinEnergyBasis::kYongCheng, 1.0, omega};
+}
+
+/// ∫_0^1 |c''(u)|² du by 3-point Gauss–Legendre (exact: the integrand is a quadratic).
+double strain_quadrature(const CubicBezier& b) {
+  static const double x[] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+  static const double w[] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k) sum += 0.5 * w[k] * norm2(b.d2(0.5 * (x[k] + 1.0)));
+  return sum;
+}
+
+double wrap(double a) {
+  a = std::remainder(a, 2 * kPi);
+  return a <= -kPi ? a + 2 * kPi : a;
+}
+
+/// Chord angles (α, β) and chord length of a Bézier piece, read off its control polygon.
+struct ChordAngles {
+  double alpha, beta, length;
+};
+ChordAngles chord_angles(const CubicBezier& b) {
+  const Vec2 c = b.p[3] - b.p[0];
+  return {signed_angle(c, b.p[1] - b.p[0]), signed_angle(c, b.p[3] - b.p[2]), norm(c)};
+}
+
+/// Σ E_1(α_i, β_{i+1}) / L_i over the output pieces (independent of the solver's bookkeeping).
+double recomputed_energy(const FitResult& r, const BasicCurveMethod& m) {
+  double e = 0.0;
+  for (const Segment& s : r.spline.segments) {
+    const ChordAngles a = chord_angles(s.bezier);
+    e += basic_energy(m, a.alpha, a.beta).e / a.length;
+  }
+  return e;
+}
+
+/// Stencil angles ψ_i (0 at the ends of an open polygon).
+std::vector<double> stencil_angles(const std::vector<Point>& p, bool closed) {
+  const std::size_t n = p.size();
+  std::vector<double> psi(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!closed && (i == 0 || i + 1 == n)) continue;
+    psi[i] = signed_angle(p[i] - p[(i + n - 1) % n], p[(i + 1) % n] - p[i]);
+  }
+  return psi;
+}
+
+nlohmann::json options_of(const BasicCurveMethod& m) {
+  switch (m.basis) {
+    case MinEnergyBasis::kCondG2:
+      return {{"basis", "cond-g2"}, {"lambda", m.lambda}, {"omega_deg", m.omega / kDeg}};
+    case MinEnergyBasis::kJaklicZagar:
+      return {{"basis", "jaklic-zagar"}, {"omega_deg", m.omega / kDeg}};
+    case MinEnergyBasis::kYongCheng:
+      return {{"basis", "yong-cheng"}, {"omega_deg", m.omega / kDeg}};
+  }
+  return {};
+}
+
+FitResult fit_with(const BasicCurveMethod& m, const FitInput& in) {
+  return fit("min-energy", in, options_of(m), ReportLevel::kBasic);
+}
+
+FitInput input_of(std::vector<Point> pts, bool closed = false) {
+  FitInput in;
+  in.points = std::move(pts);
+  in.closed = closed;
+  return in;
+}
+
+/// A closed polygon near an ellipse: n points at jittered parameters and radii (gentle turns
+/// everywhere, including the closing node).
+std::vector<Point> wobbly_ellipse(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3), radius(0.9, 1.1);
+  std::vector<Point> pts;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = 2 * kPi * (static_cast<double>(i) + jitter(rng)) / static_cast<double>(n);
+    pts.push_back({2 * radius(rng) * std::cos(t), radius(rng) * std::sin(t)});
+  }
+  return pts;
+}
+
+std::vector<std::size_t> active_of(const FitResult& r) {
+  return r.method_report.at("active").get<std::vector<std::size_t>>();
+}
+
+/// Relative curvature jump at every G1 node (not at corners, not at the ends of an open curve):
+/// |κ_left(1) − κ_right(0)| / max(|κ|, 1/L). Indexed by point; −1 where not a joint.
+std::vector<double> curvature_jumps(const FitResult& r, const FitInput& in) {
+  const auto& segs = r.spline.segments;
+  const std::size_t n = r.points.size();
+  std::vector<double> jump(n, -1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!r.closed && (i == 0 || i + 1 == n)) continue;
+    if (i < in.kinds.size() && in.kinds[i] == PointKind::kCorner) continue;
+    const CubicBezier& left = segs[(i + n - 1) % n].bezier;
+    const CubicBezier& right = segs[i].bezier;
+    const double kl = left.curvature(1.0), kr = right.curvature(0.0);
+    const double len = std::min(norm(left.p[3] - left.p[0]), norm(right.p[3] - right.p[0]));
+    jump[i] = std::abs(kl - kr) / std::max({std::abs(kl), std::abs(kr), 1.0 / len});
+  }
+  return jump;
+}
+
+// ---- basic curves and energies (Examples 1.1, 4.1, 4.2, Theorem 4.4) ----
+
+TEST(MinEnergyBasic, CondG2EnergyIsHalfTheStrainOfItsCurve) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> ang(-kPi / 2, kPi / 2);
+  for (double lambda : {0.5, 1.0, 1.7, 2.5}) {
+    const BasicCurveMethod m = cond_g2(lambda);
+    for (int trial = 0; trial < 500; ++trial) {
+      const double a = ang(rng), b = ang(rng);
+      const CubicBezier c = basic_curve(m, {0, 0}, {1, 0}, a, b);
+      const double e = basic_energy(m, a, b).e;
+      ASSERT_NEAR(e, 0.5 * strain_quadrature(c), 1e-12 * (1 + e)) << lambda << " " << a << " " << b;
+      // Speeds λ at both ends in the end directions (4.1).
+      ASSERT_NEAR(norm(c.d1(0) - lambda * from_angle(a)), 0, 1e-14);
+      ASSERT_NEAR(norm(c.d1(1) - lambda * from_angle(b)), 0, 1e-14);
+      const BasicSpeeds s = basic_speeds(m, a, b);
+      ASSERT_EQ(s.s0, lambda);
+      ASSERT_EQ(s.s1, lambda);
+    }
+    // E_1(0, 0) = 6(λ − 1)² (Remark 4.5).
+    EXPECT_NEAR(basic_energy(m, 0, 0).e, 6 * (lambda - 1) * (lambda - 1), 1e-13);
+  }
+}
+
+TEST(MinEnergyBasic, QuasiElasticIsExample11) {
+  // Example 1.1 prints the curve and half of E_1 for λ = 1: 5 + cos(α−β) − 3(cos α + cos β).
+  std::mt19937_64 rng(2);
+  std::uniform_real_distribution<double> ang(-kPi / 2, kPi / 2), len(0.1, 10), u(-5, 5);
+  const BasicCurveMethod m = cond_g2(1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    const double a = ang(rng), b = ang(rng), L = len(rng), rot = 3 * u(rng);
+    const double printed = 5 + std::cos(a - b) - 3 * (std::cos(a) + std::cos(b));
+    ASSERT_NEAR(basic_energy(m, a, b).e, 2 * printed, 1e-13);
+    // c_L(α, β) = L c_1 rotated and translated onto the chord.
+    const Point p0{u(rng), u(rng)};
+    const Point p1 = p0 + L * from_angle(rot);
+    const CubicBezier c = basic_curve(m, p0, p1, a, b);
+    for (double t : {0.0, 0.2, 0.5, 0.7, 1.0}) {
+      const double x =
+          L * (t * (1 - t) * (1 - t) * std::cos(a) + t * t * (3 - 2 * t + (t - 1) * std::cos(b)));
+      const double y = L * (t * (1 - t) * (1 - t) * std::sin(a) + t * t * (t - 1) * std::sin(b));
+      ASSERT_LT(norm(c.eval(t) - (p0 + rotate(Vec2{x, y}, rot))), 1e-13 * (1 + L + 5)) << t;
+    }
+  }
+}
+
+TEST(MinEnergyBasic, YongChengIsTheOghCurveWithItsFullStrain) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> ang(-kPi / 2, kPi / 2);
+  const BasicCurveMethod m = yong_cheng();
+  for (int trial = 0; trial < 1000; ++trial) {
+    const double a = ang(rng), b = ang(rng);
+    const CubicBezier c = basic_curve(m, {0, 0}, {1, 0}, a, b);
+    const double e = basic_energy(m, a, b).e;
+    // No ½ here (Example 4.1): E_1 = ∫|c''|².
+    ASSERT_NEAR(e, strain_quadrature(c), 1e-12 * (1 + e)) << a << " " << b;
+    ASSERT_NEAR(e, ogh_unit_energy(a, b), 1e-12 * (1 + e));
+    // Speeds of Example 4.1, and Yong–Cheng's own optimal coefficients (4).
+    const double cd = std::cos(a - b);
+    const double s0 = (6 * std::cos(a) - 3 * std::cos(b) * cd) / (4 - cd * cd);
+    const double s1 = (6 * std::cos(b) - 3 * std::cos(a) * cd) / (4 - cd * cd);
+    const BasicSpeeds s = basic_speeds(m, a, b);
+    ASSERT_NEAR(s.s0, s0, 1e-14);
+    ASSERT_NEAR(s.s1, s1, 1e-14);
+    const OghCoefficients oc = ogh_coefficients({0, 0}, {1, 0}, from_angle(a), from_angle(b));
+    ASSERT_NEAR(s.s0, oc.a0, 1e-13);
+    ASSERT_NEAR(s.s1, oc.a1, 1e-13);
+    ASSERT_NEAR(norm(c.d1(0) - s0 * from_angle(a)), 0, 1e-13);
+    ASSERT_NEAR(norm(c.d1(1) - s1 * from_angle(b)), 0, 1e-13);
+  }
+  EXPECT_EQ(basic_energy(m, 0, 0).e, 0.0);
+}
+
+TEST(MinEnergyBasic, JaklicZagarEnergyAndSpeeds) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> ang(-kPi / 2, kPi / 2);
+  const BasicCurveMethod m = jaklic_zagar();
+  for (int trial = 0; trial < 1000; ++trial) {
+    const double a = ang(rng), b = ang(rng);
+    const double e = basic_energy(m, a, b).e;
+    ASSERT_NEAR(e, std::sin(a) * std::sin(a) + std::sin(b) * std::sin(b), 1e-15);
+    const BasicSpeeds s = basic_speeds(m, a, b);
+    ASSERT_NEAR(s.s0, std::cos(a), 1e-16);
+    ASSERT_NEAR(s.s1, std::cos(b), 1e-16);
+    // The speeds minimize Jaklič–Žagar's functional, whose minimum is E_1 (Example 4.2).
+    auto f = [&](double q0, double q1) {
+      return (1 - q0 * std::cos(a)) * (1 - q0 * std::cos(a)) +
+             (q0 * std::sin(a)) * (q0 * std::sin(a)) +
+             (q1 * std::cos(b) - 1) * (q1 * std::cos(b) - 1) +
+             (q1 * std::sin(b)) * (q1 * std::sin(b));
+    };
+    ASSERT_NEAR(f(s.s0, s.s1), e, 1e-14);
+    for (double d : {-1e-4, 1e-4}) {
+      ASSERT_GT(f(s.s0 + d, s.s1), e);
+      ASSERT_GT(f(s.s0, s.s1 + d), e);
+    }
+    const CubicBezier c = basic_curve(m, {0, 0}, {1, 0}, a, b);
+    ASSERT_NEAR(norm(c.d1(0) - std::cos(a) * from_angle(a)), 0, 1e-14);
+    ASSERT_NEAR(norm(c.d1(1) - std::cos(b) * from_angle(b)), 0, 1e-14);
+  }
+}
+
+/// (4.1)'s end curvatures of c_1(α, β) with speeds s0, s1.
+std::pair<double, double> end_curvatures(const BasicCurveMethod& m, double a, double b) {
+  const BasicSpeeds s = basic_speeds(m, a, b);
+  return {(2 * s.s1 * std::sin(a - b) - 6 * std::sin(a)) / (s.s0 * s.s0),
+          (2 * s.s0 * std::sin(a - b) + 6 * std::sin(b)) / (s.s1 * s.s1)};
+}
+
+TEST(MinEnergyBasic, EndCurvaturesAndConsistency) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> ang(-kPi / 3, kPi / 3), len(0.2, 5), rot(-kPi, kPi);
+  const std::vector<BasicCurveMethod> methods = {cond_g2(0.5), cond_g2(1), cond_g2(2.5),
+                                                 jaklic_zagar(), yong_cheng()};
+  for (const BasicCurveMethod& m : methods) {
+    for (int trial = 0; trial < 300; ++trial) {
+      const double a = ang(rng), b = ang(rng), L = len(rng);
+      // The printed formulas agree with the curvature of the Bézier, scaled by 1/L.
+      const CubicBezier c = basic_curve(m, {1, 2}, Point{1, 2} + L * from_angle(rot(rng)), a, b);
+      const auto [ka, kb] = end_curvatures(m, a, b);
+      ASSERT_NEAR(c.curvature(0.0) * L, ka, 1e-10 * (1 + std::abs(ka)));
+      ASSERT_NEAR(c.curvature(1.0) * L, kb, 1e-10 * (1 + std::abs(kb)));
+      if (m.basis == MinEnergyBasis::kCondG2) {
+        // (3.1) with μ = λ⁻³: the energy is consistent with end curvatures (Theorem 4.4).
+        const BasicEnergy e = basic_energy(m, a, b);
+        const double mu = 1 / (m.lambda * m.lambda * m.lambda);
+        ASSERT_NEAR(-ka, mu * e.ea, 1e-12 * (1 + std::abs(ka)));
+        ASSERT_NEAR(kb, mu * e.eb, 1e-12 * (1 + std::abs(kb)));
+      }
+    }
+  }
+  // Corollary 3.7's Q(α, 0) = ∂κ_a/∂β + ∂κ_b/∂α: 0 for the conditionally G2 cubic, negative
+  // for Jaklič–Žagar (0 < α < π/2) and Yong–Cheng (0 < α ≤ π/3), Examples 4.1, 4.2.
+  auto q = [](const BasicCurveMethod& m, double a) {
+    const double h = 1e-5;
+    return (end_curvatures(m, a, h).first - end_curvatures(m, a, -h).first) / (2 * h) +
+           (end_curvatures(m, a + h, 0).second - end_curvatures(m, a - h, 0).second) / (2 * h);
+  };
+  for (double a = 1 * kDeg; a <= 60 * kDeg + 1e-12; a += 1 * kDeg) {
+    EXPECT_NEAR(q(cond_g2(1.3), a), 0, 1e-8) << a;
+    EXPECT_LT(q(yong_cheng(), a), 0) << a;
+    EXPECT_LT(q(jaklic_zagar(), a), 0) << a;
+  }
+  for (double a = 61 * kDeg; a < 90 * kDeg; a += 1 * kDeg) EXPECT_LT(q(jaklic_zagar(), a), 0) << a;
+}
+
+// ---- derivatives and Remark 4.5 ----
+
+TEST(MinEnergyBasic, DerivativesMatchFiniteDifferences) {
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> ang(-kPi / 2 + 0.01, kPi / 2 - 0.01);
+  const std::vector<BasicCurveMethod> methods = {cond_g2(0.5), cond_g2(1),     cond_g2(1.7),
+                                                 cond_g2(2.5), jaklic_zagar(), yong_cheng()};
+  for (const BasicCurveMethod& m : methods) {
+    auto E = [&](double a, double b) { return basic_energy(m, a, b).e; };
+    for (int trial = 0; trial < 200; ++trial) {
+      const double a = ang(rng), b = ang(rng);
+      const BasicEnergy e = basic_energy(m, a, b);
+      auto tol = [](double v) { return 1e-6 * std::max(1.0, std::abs(v)); };
+      const double h = 1e-5;
+      const double ga = (E(a + h, b) - E(a - h, b)) / (2 * h);
+      const double gb = (E(a, b + h) - E(a, b - h)) / (2 * h);
+      ASSERT_NEAR(e.ea, ga, tol(ga)) << a << " " << b;
+      ASSERT_NEAR(e.eb, gb, tol(gb)) << a << " " << b;
+      // Second derivatives: Richardson-extrapolated central differences of E.
+      auto second = [&](auto&& d2) {
+        const double k = 2e-3;
+        return (4 * d2(k / 2) - d2(k)) / 3;
+      };
+      const double haa =
+          second([&](double k) { return (E(a + k, b) - 2 * E(a, b) + E(a - k, b)) / (k * k); });
+      const double hbb =
+          second([&](double k) { return (E(a, b + k) - 2 * E(a, b) + E(a, b - k)) / (k * k); });
+      const double hab = second([&](double k) {
+        return (E(a + k, b + k) - E(a + k, b - k) - E(a - k, b + k) + E(a - k, b - k)) /
+               (4 * k * k);
+      });
+      ASSERT_NEAR(e.eaa, haa, tol(haa)) << a << " " << b;
+      ASSERT_NEAR(e.ebb, hbb, tol(hbb)) << a << " " << b;
+      ASSERT_NEAR(e.eab, hab, tol(hab)) << a << " " << b;
+      // Symmetry E_1(α, β) = E_1(β, α) of all three methods.
+      ASSERT_NEAR(E(b, a), e.e, 1e-12 * (1 + e.e));
+      ASSERT_NEAR(E(-a, -b), e.e, 1e-12 * (1 + e.e));
+    }
+  }
+}
+
+TEST(MinEnergyBasic, HessianOfRemark45AndTheSection6Typo) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> ang(-kPi / 2, kPi / 2);
+  for (double lambda : {0.5, 1.0, 1.5, 2.0, 2.9}) {
+    const BasicCurveMethod m = cond_g2(lambda);
+    for (int trial = 0; trial < 200; ++trial) {
+      const double a = ang(rng), b = ang(rng), cd = std::cos(a - b);
+      const BasicEnergy e = basic_energy(m, a, b);
+      ASSERT_NEAR(e.eaa, 2 * lambda * (-lambda * cd + 3 * std::cos(a)), 1e-13);
+      ASSERT_NEAR(e.ebb, 2 * lambda * (-lambda * cd + 3 * std::cos(b)), 1e-13);
+      ASSERT_NEAR(e.eab, 2 * lambda * lambda * cd, 1e-13);
+      // Proposition 6.2's determinant.
+      const double det =
+          4 * lambda * lambda *
+          (9 * std::cos(a) * std::cos(b) - 3 * lambda * cd * (std::cos(a) + std::cos(b)));
+      ASSERT_NEAR(e.eaa * e.ebb - e.eab * e.eab, det, 1e-11 * (1 + std::abs(det)));
+    }
+    // At (0, 0): zero gradient, H_1(0,0) = 2λ[[3−λ, λ], [λ, 3−λ]], eigenvalues d ± e of the
+    // symmetric Toeplitz matrix: 6λ and 2λ(3 − 2λ) — positive definite iff λ < 3/2.
+    const BasicEnergy z = basic_energy(m, 0, 0);
+    EXPECT_EQ(z.ea, 0.0);
+    EXPECT_EQ(z.eb, 0.0);
+    EXPECT_NEAR(z.eaa, 2 * lambda * (3 - lambda), 1e-13);
+    EXPECT_NEAR(z.ebb, 2 * lambda * (3 - lambda), 1e-13);
+    EXPECT_NEAR(z.eab, 2 * lambda * lambda, 1e-13);
+    EXPECT_NEAR(z.eaa + z.eab, 6 * lambda, 1e-13);
+    EXPECT_NEAR(z.eaa - z.eab, 2 * lambda * (3 - 2 * lambda), 1e-13);
+  }
+  // Section 6 restates H_1(0,0) as 2λ[[3−λ, 1], [1, 3−λ]] with eigenvalues 6 − 4λ and 6. That is
+  // a typo: the off-diagonal entry is 2λ·λ (Remark 4.5), and 6 − 4λ, 6 are the eigenvalues of
+  // H_1(0,0)/λ (the conclusion "positive definite iff λ < 3/2" is unaffected). At λ = 2 the
+  // printed off-diagonal would be 2λ·1 = 4; the true one is 8, and the true eigenvalues are
+  // 12 and −4 (the printed matrix would have 8 and 0).
+  const BasicEnergy z2 = basic_energy(cond_g2(2.0), 0, 0);
+  EXPECT_NEAR(z2.eab, 8.0, 1e-13);
+  EXPECT_GT(std::abs(z2.eab - 4.0), 3.9);
+  EXPECT_NEAR(z2.eaa + z2.eab, 12.0, 1e-13);
+  EXPECT_NEAR(z2.eaa - z2.eab, -4.0, 1e-13);
+  // Proposition 6.2: E_1 strictly convex on [−Ω_conv, Ω_conv]², Ω_conv = acos(2λ/3).
+  for (double lambda : {0.5, 1.0, 1.2, 1.45}) {
+    const double oc = std::acos(2 * lambda / 3);
+    std::uniform_real_distribution<double> in(-oc, oc);
+    for (int trial = 0; trial < 2000; ++trial) {
+      const BasicEnergy e = basic_energy(cond_g2(lambda), in(rng), in(rng));
+      ASSERT_GT(e.eaa, 0);
+      ASSERT_GT(e.eaa * e.ebb - e.eab * e.eab, 0);
+    }
+    // ... and not beyond: at the corner (Ω_conv + δ, Ω_conv + δ) the determinant is negative.
+    const BasicEnergy out = basic_energy(cond_g2(lambda), oc + 0.02, oc + 0.02);
+    EXPECT_LT(out.eaa * out.ebb - out.eab * out.eab, 0) << lambda;
+  }
+}
+
+// ---- Theorem 3.3: conditional G2 ----
+
+TEST(MinEnergyFit, ConditionalG2AtEveryInactiveNodeAndNaturalEnds) {
+  int checked = 0, active_total = 0, active_jumps = 0, free_ends = 0;
+  auto run = [&](const std::string& name, double lambda, const FitInput& in) {
+    const nlohmann::json opt =
+        name == "quasi-elastic" ? nlohmann::json::object() : nlohmann::json{{"lambda", lambda}};
+    const FitResult r = fit(name, in, opt, ReportLevel::kBasic);
+    const std::vector<std::size_t> active = active_of(r);
+    const std::vector<double> jump = curvature_jumps(r, in);
+    for (std::size_t i = 0; i < jump.size(); ++i) {
+      const bool is_active = std::find(active.begin(), active.end(), i) != active.end();
+      if (jump[i] < 0) continue;
+      if (is_active) {
+        ++active_total;
+        active_jumps += jump[i] > 1e-6;
+      } else {
+        ++checked;
+        ASSERT_LT(jump[i], 1e-8) << name << " lambda " << lambda << " point " << i << " of "
+                                 << jump.size() << (in.closed ? " closed" : " open");
+      }
+    }
+    // Free ends: ∂E/∂α = 0 there, so κ = −μ ∂E/∂α = 0 (natural end condition).
+    if (!r.closed) {
+      const auto& segs = r.spline.segments;
+      const std::size_t n = r.points.size();
+      for (std::size_t i : {std::size_t{0}, n - 1}) {
+        if (std::find(active.begin(), active.end(), i) != active.end()) continue;
+        const CubicBezier& b = i == 0 ? segs.front().bezier : segs.back().bezier;
+        const double k = b.curvature(i == 0 ? 0.0 : 1.0) * norm(b.p[3] - b.p[0]);
+        ASSERT_LT(std::abs(k), 1e-8) << name << " end " << i;
+        ++free_ends;
+      }
+    }
+  };
+  for (std::uint64_t seed = 0; seed < 6; ++seed) {
+    const std::vector<Point> gentle = random_walk(30 + 5 * seed, seed, 60);
+    const std::vector<Point> wild = random_walk(30, 100 + seed, 150);
+    for (const FitInput& in : {input_of(gentle), input_of(wild), input_of(wild, true)}) {
+      run("quasi-elastic", 1.0, in);
+      run("cond-g2", 0.7, in);
+      run("cond-g2", 1.8, in);
+    }
+  }
+  for (std::size_t n : {5, 12, 40}) {
+    run("quasi-elastic", 1.0, input_of(testing::ellipse(n), true));
+    run("cond-g2", 1.8, input_of(testing::ellipse(n, 3, 0.5), true));
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(free_ends, 20);
+  // Where a bound is active the curvature does jump: the condition is not vacuous.
+  EXPECT_GT(active_total, 10);
+  EXPECT_GT(active_jumps, active_total / 2);
+}
+
+// ---- Example 5.2: Ω = 90°, |ψ_i| ≤ atan(√(9−λ²)/λ) ⇒ no active bound ----
+
+TEST(MinEnergyFit, Example52NoActiveBoundBelowPsi) {
+  for (double lambda : {1.0, 2.0}) {
+    const double psi_max = std::atan(std::sqrt(9 - lambda * lambda) / lambda);
+    for (std::uint64_t seed = 0; seed < 10; ++seed) {
+      const std::vector<Point> pts = random_walk(40, 200 + seed, 0.999 * psi_max / kDeg);
+      for (double psi : stencil_angles(pts, false)) ASSERT_LE(std::abs(psi), psi_max);
+      const FitResult r = fit_with(cond_g2(lambda), input_of(pts));
+      EXPECT_TRUE(active_of(r).empty()) << lambda << " seed " << seed;
+      for (double j : curvature_jumps(r, input_of(pts))) ASSERT_LT(j, 1e-8);
+    }
+    // A turn at exactly Ψ (the extreme of Example 5.2) still leaves the direction interior.
+    const std::vector<Point> edge = {{-1, 0}, {0, 0}, from_angle(psi_max)};
+    EXPECT_TRUE(active_of(fit_with(cond_g2(lambda), input_of(edge))).empty());
+  }
+  // Sharper turns do activate bounds (λ = 2: Ψ ≈ 48.2°), so the check above can fail.
+  EXPECT_FALSE(active_of(fit_with(cond_g2(2.0), input_of(random_walk(30, 100, 150)))).empty());
+}
+
+// ---- Proposition 6.3: the green zone ----
+
+/// An independent minimizer of the total energy: cyclic coordinate Newton (each node's angle
+/// relative to the bisector of its chords, within its feasible box) from a given start.
+/// Returns the absolute direction angles.
+struct Problem {
+  std::vector<double> phi, len, ref, bound;
+  bool closed = false;
+};
+Problem make_problem(const std::vector<Point>& p, bool closed, double omega) {
+  Problem pr;
+  pr.closed = closed;
+  const std::size_t n = p.size(), segs = closed ? n : n - 1;
+  for (std::size_t s = 0; s < segs; ++s) {
+    pr.phi.push_back(angle(p[(s + 1) % n] - p[s]));
+    pr.len.push_back(norm(p[(s + 1) % n] - p[s]));
+  }
+  const std::vector<double> psi = stencil_angles(p, closed);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool has_prev = closed || i > 0, has_next = closed || i + 1 < n;
+    const double prev = has_prev ? pr.phi[(i + segs - 1) % segs] : pr.phi[0];
+    pr.ref.push_back(has_next && has_prev ? prev + 0.5 * psi[i] : has_next ? pr.phi[i] : prev);
+    pr.bound.push_back(omega - 0.5 * std::abs(psi[i]));
+  }
+  return pr;
+}
+/// Energy of segment s at node angles x (relative to ref).
+BasicEnergy segment_energy(const Problem& pr, const BasicCurveMethod& m,
+                           const std::vector<double>& x, std::size_t s) {
+  const std::size_t j = (s + 1) % x.size();
+  BasicEnergy be =
+      basic_energy(m, wrap(pr.ref[s] + x[s] - pr.phi[s]), wrap(pr.ref[j] + x[j] - pr.phi[s]));
+  for (double* v : {&be.e, &be.ea, &be.eb, &be.eaa, &be.eab, &be.ebb}) *v /= pr.len[s];
+  return be;
+}
+double problem_energy(const Problem& pr, const BasicCurveMethod& m, const std::vector<double>& x) {
+  double e = 0.0;
+  for (std::size_t s = 0; s < pr.phi.size(); ++s) e += segment_energy(pr, m, x, s).e;
+  return e;
+}
+std::vector<double> coordinate_newton(const Problem& pr, const BasicCurveMethod& m,
+                                      std::vector<double> x) {
+  const std::size_t n = x.size(), segs = pr.phi.size();
+  for (int sweep = 0; sweep < 5000; ++sweep) {
+    double change = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int it = 0; it < 30; ++it) {
+        double g = 0.0, h = 0.0;
+        if (i < segs) {  // the segment starting at i
+          const BasicEnergy e = segment_energy(pr, m, x, i);
+          g += e.ea, h += e.eaa;
+        }
+        if (pr.closed || i > 0) {  // the segment ending at i
+          const BasicEnergy e = segment_energy(pr, m, x, (i + segs - 1) % segs);
+          g += e.eb, h += e.ebb;
+        }
+        const double next = std::clamp(x[i] - g / h, -pr.bound[i], pr.bound[i]);
+        const double step = std::abs(next - x[i]);
+        change = std::max(change, step);
+        x[i] = next;
+        if (step < 1e-15) break;
+      }
+    }
+    if (change < 1e-14) break;
+  }
+  return x;
+}
+
+TEST(MinEnergyFit, Proposition63GreenZoneIsUniqueAndG2) {
+  std::mt19937_64 rng(8);
+  int cases = 0;
+  for (double lambda : {1.0, 1.2}) {
+    const double omega = std::acos(2 * lambda / 3);
+    // Ψ = Ω − atan f(Ω), f(α) = sin α / (3/λ − cos α), as the proof derives it:
+    // atan(λ√(9−4λ²)/(9−2λ²)). The statement prints atan(√(9−4λ²)/(9−2λ)), equal only at
+    // λ = 1 (30.47°); at λ = 1.2 it gives 21.61° where the bound is 17.43° (an erratum).
+    const double psi_max =
+        omega - std::atan(lambda * std::sqrt(9 - 4 * lambda * lambda) / (9 - 2 * lambda * lambda));
+    if (lambda == 1.0) {
+      EXPECT_NEAR(psi_max / kDeg, 30.5, 0.05);  // the introduction's 30.5°
+    }
+    MinEnergyOptions opt;
+    opt.method = cond_g2(lambda, omega);
+    for (std::uint64_t seed = 0; seed < 4; ++seed) {
+      std::vector<FitInput> inputs = {
+          input_of(random_walk(25, 300 + seed, 0.999 * psi_max / kDeg))};
+      if (seed < 2) inputs.push_back(input_of(testing::ellipse(32 + 8 * seed, 2, 1.5), true));
+      for (const FitInput& in : inputs) {
+        for (double psi : stencil_angles(in.points, in.closed)) ASSERT_LE(std::abs(psi), psi_max);
+        const FitResult r = fit("cond-g2", in, {{"lambda", lambda}, {"omega_deg", omega / kDeg}},
+                                ReportLevel::kBasic);
+        EXPECT_TRUE(active_of(r).empty());
+        for (double j : curvature_jumps(r, in)) ASSERT_LT(j, 1e-8);
+        const double e = r.method_report["energy"].get<double>();
+        // The slow reference reaches the same minimum.
+        const MinEnergyReference ref = min_energy_reference(in, opt);
+        EXPECT_NEAR(ref.energy, e, 1e-9 * e) << lambda << " " << seed;
+        for (std::size_t i = 0; i < in.points.size(); ++i) {
+          EXPECT_NEAR(wrap(ref.angles[i] - angle(r.tangents[i])), 0, 1e-4) << i;
+        }
+        // Cyclic coordinate Newton from random feasible starts reaches the same directions.
+        const Problem pr = make_problem(in.points, in.closed, omega);
+        for (int start = 0; start < 3; ++start) {
+          std::vector<double> x0;
+          for (double b : pr.bound)
+            x0.push_back(std::uniform_real_distribution<double>(-b, b)(rng));
+          const std::vector<double> x = coordinate_newton(pr, opt.method, x0);
+          EXPECT_NEAR(problem_energy(pr, opt.method, x), e, 1e-12 * e);
+          for (std::size_t i = 0; i < x.size(); ++i) {
+            ASSERT_NEAR(wrap(pr.ref[i] + x[i] - angle(r.tangents[i])), 0, 1e-8)
+                << i << " start " << start;
+          }
+        }
+        ++cases;
+      }
+    }
+  }
+  EXPECT_EQ(cases, 12);
+}
+
+// ---- the projected Newton solver against the reference ----
+
+struct Case {
+  std::string what;
+  BasicCurveMethod method;
+  FitInput input;
+};
+
+/// Direction at point i (interior) rotated by `frac` of its feasible half-width from the bisector.
+Vec2 feasible_direction(const std::vector<Point>& p, std::size_t i, double omega, double frac) {
+  const std::size_t n = p.size();
+  const Vec2 in = p[i] - p[(i + n - 1) % n], out = p[(i + 1) % n] - p[i];
+  const double psi = signed_angle(in, out);
+  return from_angle(angle(in) + 0.5 * psi + frac * (omega - 0.5 * std::abs(psi)));
+}
+
+std::vector<Case> reference_cases() {
+  std::vector<Case> cases;
+  const BasicCurveMethod qe = cond_g2(1.0), g2 = cond_g2(1.8), jz = jaklic_zagar(),
+                         yc = yong_cheng();
+  auto walk = [](std::size_t n, std::uint64_t seed, double turn) {
+    return random_walk(n, seed, turn);
+  };
+  cases.push_back({"open qe", qe, input_of(walk(40, 11, 120))});
+  cases.push_back({"closed qe", qe, input_of(walk(30, 12, 120), true)});
+  cases.push_back({"open cond-g2 1.8", g2, input_of(walk(25, 13, 120))});
+  {
+    FitInput in = input_of(walk(35, 14, 120));
+    in.start_tangent = from_angle(angle(in.points[1] - in.points[0]) + 40 * kDeg);
+    in.end_tangent = from_angle(angle(in.points[34] - in.points[33]) - 70 * kDeg);
+    cases.push_back({"start/end tangents qe", qe, in});
+  }
+  {
+    FitInput in = input_of(walk(30, 15, 120));
+    in.kinds.assign(30, PointKind::kSmooth);
+    in.kinds[9] = in.kinds[20] = PointKind::kCorner;
+    cases.push_back({"corners qe", qe, in});
+  }
+  {
+    FitInput in = input_of(walk(30, 16, 120), true);
+    in.kinds.assign(30, PointKind::kSmooth);
+    in.kinds[7] = PointKind::kCorner;
+    cases.push_back({"closed one corner qe", qe, in});
+  }
+  {
+    FitInput in = input_of(walk(30, 17, 90));
+    in.kinds.assign(30, PointKind::kSmooth);
+    in.tangents.assign(30, std::nullopt);
+    in.kinds[12] = PointKind::kClamped;
+    in.tangents[12] = feasible_direction(in.points, 12, qe.omega, 0.6);
+    in.kinds[13] = PointKind::kClamped;
+    in.tangents[13] = feasible_direction(in.points, 13, qe.omega, -0.999999);  // at the bound
+    cases.push_back({"clamped qe", qe, in});
+  }
+  cases.push_back({"open jz", jz, input_of(walk(30, 18, 60))});
+  cases.push_back({"closed jz", jz, input_of(wobbly_ellipse(24, 19), true)});
+  {
+    FitInput in = input_of(walk(20, 20, 60));
+    in.start_tangent = from_angle(angle(in.points[1] - in.points[0]) - 30 * kDeg);
+    in.kinds.assign(20, PointKind::kSmooth);
+    in.kinds[10] = PointKind::kCorner;
+    cases.push_back({"corner + start jz", jz, in});
+  }
+  cases.push_back({"open yc", yc, input_of(walk(20, 21, 60))});
+  {
+    FitInput in = input_of(wobbly_ellipse(20, 22), true);
+    in.kinds.assign(20, PointKind::kSmooth);
+    in.tangents.assign(20, std::nullopt);
+    in.kinds[5] = PointKind::kClamped;
+    in.tangents[5] = feasible_direction(in.points, 5, yc.omega, 0.3);
+    cases.push_back({"closed clamped yc", yc, in});
+  }
+  return cases;
+}
+
+TEST(MinEnergyFit, NewtonIsAtLeastAsGoodAsTheReference) {
+  for (const Case& c : reference_cases()) {
+    SCOPED_TRACE(c.what);
+    const FitInput& in = c.input;
+    const std::size_t n = in.points.size();
+    MinEnergyOptions opt;
+    opt.method = c.method;
+    FitResult r;
+    MinEnergyReport rep;
+    fit_min_energy(in, opt, ReportLevel::kBasic, r, &rep);
+    const MinEnergyReference ref = min_energy_reference(in, opt);
+    EXPECT_LE(rep.energy, ref.energy * (1 + 1e-12) + 1e-15);
+    // Not wildly different either (the reference is a real minimizer).
+    EXPECT_GE(rep.energy, ref.energy * (1 - 1e-3));
+    // The reported energy is that of the output pieces.
+    EXPECT_NEAR(recomputed_energy(r, c.method), rep.energy, 1e-12 * rep.energy);
+    EXPECT_EQ(r.method_report["energy"].get<double>(), rep.energy);
+    EXPECT_EQ(r.method_report["status"], "converged");
+    EXPECT_EQ(r.method_report["iterations"].get<int>(), rep.iterations);
+    EXPECT_EQ(active_of(r), rep.active);
+    EXPECT_LE(rep.projected_gradient, opt.tolerance);
+    // Newton with the exact (cyclic) tridiagonal Hessian: a handful of iterations (3 to 8 here).
+    EXPECT_LE(rep.iterations, 15);
+    // One piece per corner-separated chain.
+    std::size_t corners = 0;
+    for (std::size_t i = 0; i < in.kinds.size(); ++i) {
+      corners += in.kinds[i] == PointKind::kCorner && (in.closed || (i > 0 && i + 1 < n));
+    }
+    EXPECT_EQ(static_cast<std::size_t>(rep.pieces),
+              in.closed ? std::max<std::size_t>(corners, 1) : corners + 1);
+    // Interpolation, feasibility, G1 at smooth nodes, clamped directions kept.
+    const auto& segs = r.spline.segments;
+    ASSERT_EQ(segs.size(), in.closed ? n : n - 1);
+    for (std::size_t s = 0; s < segs.size(); ++s) {
+      EXPECT_EQ(segs[s].bezier.p[0], in.points[s]);
+      EXPECT_EQ(segs[s].bezier.p[3], in.points[(s + 1) % n]);
+      const ChordAngles a = chord_angles(segs[s].bezier);
+      EXPECT_LE(std::abs(a.alpha), c.method.omega + 1e-12) << s;
+      EXPECT_LE(std::abs(a.beta), c.method.omega + 1e-12) << s;
+      // Each piece is the basic curve of its end angles (speeds included).
+      const CubicBezier b =
+          basic_curve(c.method, in.points[s], in.points[(s + 1) % n], a.alpha, a.beta);
+      for (int j = 1; j < 3; ++j) {
+        EXPECT_LT(norm(b.p[j] - segs[s].bezier.p[j]), 1e-12 * (1 + testing::scale_of(in.points)))
+            << s;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool corner = i < in.kinds.size() && in.kinds[i] == PointKind::kCorner;
+      const Vec2 leg = i < segs.size() ? segs[i].bezier.p[1] - segs[i].bezier.p[0]
+                                       : segs.back().bezier.p[3] - segs.back().bezier.p[2];
+      EXPECT_LT(std::abs(signed_angle(r.tangents[i], leg)), 1e-12) << "tangent " << i;
+      if ((in.closed || (i > 0 && i + 1 < n)) && !corner) {
+        const CubicBezier& left = segs[(i + n - 1) % n].bezier;
+        EXPECT_LT(std::abs(signed_angle(left.p[3] - left.p[2], r.tangents[i])), 1e-12)
+            << "G1 " << i;
+      }
+      if (i < in.kinds.size() && in.kinds[i] == PointKind::kClamped) {
+        EXPECT_LT(std::abs(signed_angle(*in.tangents[i], r.tangents[i])), 1e-14) << i;
+        // A given direction is not a free variable at a bound, even where it sits on one.
+        EXPECT_EQ(std::count(rep.active.begin(), rep.active.end(), i), 0) << i;
+      }
+    }
+    if (in.start_tangent) {
+      EXPECT_LT(std::abs(signed_angle(*in.start_tangent, r.tangents[0])), 1e-14);
+      EXPECT_EQ(std::count(rep.active.begin(), rep.active.end(), 0), 0);
+    }
+    if (in.end_tangent) {
+      EXPECT_LT(std::abs(signed_angle(*in.end_tangent, r.tangents[n - 1])), 1e-14);
+      EXPECT_EQ(std::count(rep.active.begin(), rep.active.end(), n - 1), 0);
+    }
+    // The reference's own energy is that of its angles (no corners: one angle per point).
+    if (std::find(in.kinds.begin(), in.kinds.end(), PointKind::kCorner) == in.kinds.end()) {
+      double e = 0.0;
+      for (std::size_t s = 0; s < segs.size(); ++s) {
+        const Vec2 chord = in.points[(s + 1) % n] - in.points[s];
+        e += basic_energy(c.method, wrap(ref.angles[s] - angle(chord)),
+                          wrap(ref.angles[(s + 1) % n] - angle(chord)))
+                 .e /
+             norm(chord);
+      }
+      EXPECT_NEAR(e, ref.energy, 1e-12 * ref.energy);
+    }
+  }
+}
+
+TEST(MinEnergyFit, RegistryNamesAndOptions) {
+  EXPECT_EQ(default_method_name(), "quasi-elastic");
+  const std::vector<Point> pts = random_walk(20, 30, 100);
+  const FitInput in = input_of(pts);
+  const FitResult qe = fit("quasi-elastic", in, {}, ReportLevel::kBasic);
+  const FitResult me = fit("min-energy", in, {}, ReportLevel::kBasic);
+  const FitResult g1 = fit("cond-g2", in, {{"lambda", 1.0}}, ReportLevel::kBasic);
+  const FitResult g = fit("cond-g2", in, {{"lambda", 1.7}}, ReportLevel::kBasic);
+  const FitResult mg =
+      fit("min-energy", in, {{"basis", "cond-g2"}, {"lambda", 1.7}}, ReportLevel::kBasic);
+  for (std::size_t s = 0; s < qe.spline.segments.size(); ++s) {
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_EQ(qe.spline.segments[s].bezier.p[k], me.spline.segments[s].bezier.p[k]);
+      EXPECT_EQ(qe.spline.segments[s].bezier.p[k], g1.spline.segments[s].bezier.p[k]);
+      EXPECT_EQ(g.spline.segments[s].bezier.p[k], mg.spline.segments[s].bezier.p[k]);
+    }
+  }
+  EXPECT_GT(
+      std::abs(g.method_report["energy"].get<double>() - qe.method_report["energy"].get<double>()),
+      1e-3);
+  // quasi-elastic is λ = 1: another lambda is a bad option, not silently ignored.
+  const Error bad = testing::expect_error([&] { fit("quasi-elastic", in, {{"lambda", 2.0}}); });
+  EXPECT_EQ(bad.code(), ErrorCode::kBadOption);
+  // basis=yong-cheng beyond acos(1/3): speeds could turn negative.
+  EXPECT_EQ(testing::expect_error([&] {
+              fit("min-energy", in, {{"basis", "yong-cheng"}, {"omega_deg", 75}});
+            }).code(),
+            ErrorCode::kBadOption);
+  // Default Ω per basis, reported.
+  EXPECT_EQ(qe.method_report["omega_deg"].get<double>(), 90.0);
+  EXPECT_NEAR(fit("min-energy", input_of(random_walk(10, 1, 60)), {{"basis", "jaklic-zagar"}})
+                  .method_report["omega_deg"]
+                  .get<double>(),
+              80.0, 1e-12);
+  EXPECT_NEAR(fit("min-energy", input_of(random_walk(10, 1, 60)), {{"basis", "yong-cheng"}})
+                  .method_report["omega_deg"]
+                  .get<double>(),
+              60.0, 1e-12);
+  EXPECT_EQ(BasicCurveMethod::default_omega(MinEnergyBasis::kCondG2), kPi / 2);
+  // A smaller Ω can only raise the minimum; with Ω at 60° some bound is active here.
+  const FitResult small = fit("min-energy", in, {{"omega_deg", 60}}, ReportLevel::kBasic);
+  EXPECT_GE(small.method_report["energy"].get<double>(),
+            qe.method_report["energy"].get<double>() * (1 - 1e-12));
+  EXPECT_FALSE(active_of(small).empty());
+  // kNone reports no active list but the same curve.
+  const FitResult none = fit("quasi-elastic", in, {}, ReportLevel::kNone);
+  EXPECT_FALSE(none.method_report.contains("active"));
+  EXPECT_EQ(none.method_report["energy"], qe.method_report["energy"]);
+}
+
+// KNOWN BUG (fails): fit_min_energy ignores FitInput::start_tangent on a closed curve
+// (build_chains: `if (!closed && input.start_tangent) given[0] = ...`). The input checks tell the
+// user to "clamp a point with kinds/tangents or use the start tangent" on a closed curve, and the
+// Jaklič–Žagar, Li, Kozák–Krajnc and Yong–Cheng methods honour it there.
+TEST(MinEnergyFit, ClosedCurveHonoursStartTangent) {
+  const std::vector<Point> pts = testing::ellipse(12);
+  FitInput in = input_of(pts, true);
+  const Vec2 t0 = feasible_direction(pts, 0, kPi / 2, 0.5);
+  in.start_tangent = t0;
+  const FitResult r = fit("quasi-elastic", in, {}, ReportLevel::kBasic);
+  EXPECT_LT(std::abs(signed_angle(t0, r.tangents[0])), 1e-14)
+      << "start_tangent ignored on a closed curve";
+  const CubicBezier& first = r.spline.segments.front().bezier;
+  EXPECT_LT(std::abs(signed_angle(t0, first.p[1] - first.p[0])), 1e-14);
+  // The same clamp given through kinds/tangents works.
+  FitInput k = input_of(pts, true);
+  k.kinds.assign(pts.size(), PointKind::kSmooth);
+  k.tangents.assign(pts.size(), std::nullopt);
+  k.kinds[0] = PointKind::kClamped;
+  k.tangents[0] = t0;
+  EXPECT_LT(std::abs(signed_angle(t0, fit("quasi-elastic", k).tangents[0])), 1e-14);
+}
+
+// KNOWN BUG (fails): with a corner at the last point of a closed curve, FitResult::tangents
+// reports the corner's incoming direction instead of its outgoing one (every other corner, and
+// every other method, report the direction of the piece starting there). In fit_min_energy the
+// condition `ch.closed || t + 1 < k || ch.node[t] == n - 1` meant for the last point of an open
+// curve also fires for the closing node of the (open) chain of a closed curve, overwriting the
+// outgoing angle; `(!out.closed && ch.node[t] == n - 1)` would fix it. The spline is right.
+TEST(MinEnergyFit, ClosedCurveCornerAtTheLastPointReportsOutgoingTangent) {
+  const std::vector<Point> pts = testing::ellipse(12);
+  for (std::size_t corner : {std::size_t{4}, pts.size() - 1}) {
+    FitInput c = input_of(pts, true);
+    c.kinds.assign(pts.size(), PointKind::kSmooth);
+    c.kinds[corner] = PointKind::kCorner;
+    const FitResult r = fit("quasi-elastic", c, {}, ReportLevel::kBasic);
+    const CubicBezier& out = r.spline.segments[corner].bezier;
+    const CubicBezier& in = r.spline.segments[(corner + pts.size() - 1) % pts.size()].bezier;
+    EXPECT_GT(std::abs(signed_angle(in.p[3] - in.p[2], out.p[1] - out.p[0])), 0.1);  // a corner
+    EXPECT_LT(std::abs(signed_angle(out.p[1] - out.p[0], r.tangents[corner])), 1e-12)
+        << "corner " << corner << ": the tangent is the incoming direction";
+  }
+}
+
+// KNOWN BUG (fails): the default method throws Error(kNotConverged) on about 6% of 3-point and
+// 3% of 4-point open random walks (random_walk(n, seed, 90)), e.g. quasi-elastic on
+// {(0,0), (1,0), (1.8,0.1)}. After two Newton steps the relative projected gradient is ~1.5e-10,
+// just above the tolerance 1e-10, but E_1 = 2cos(α−β) − 6(cos α + cos β) + 10 is evaluated with
+// cancellation (terms ~12/L, absolute rounding ~1e-15/L) while the remaining decrease is ~1e-20:
+// the Armijo test sees only rounding noise, rejects the Newton and the gradient steps, and the
+// solver gives up. The "rounding-level" acceptance of a full Newton step (en <= energy +
+// 1e-14·|energy|·√k) does not help: it is relative to the total energy (here 0.013), not to the
+// size of the terms that cancel. Only λ = 1 is affected (for λ ≠ 1 the energy ≥ 6(λ−1)²/L is
+// large enough for that slack to cover the noise). A cancellation-free E_1 (e.g. 6(λ−1)²
+// + 12λ(sin²(α/2) + sin²(β/2)) − 4λ² sin²((α−β)/2)) or a slack relative to Σ(|terms|)/L would
+// fix it. The error message also prints the gradient with std::to_string: "projected gradient
+// 0.000000 (relative), above the tolerance".
+TEST(MinEnergyFit, ConvergesOnShortNearlyStraightData) {
+  for (double y : {0.1, -0.1, 0.2, -0.2}) {
+    const FitInput in = input_of({{0, 0}, {1, 0}, {1.8, y}});
+    try {
+      const FitResult r = fit("quasi-elastic", in, {}, ReportLevel::kNone);
+      EXPECT_LE(r.method_report["projected_gradient"].get<double>(), 1e-10);
+    } catch (const Error& e) {
+      ADD_FAILURE() << "y = " << y << ": " << e.what();
+    }
+  }
+  int failures = 0;
+  for (std::uint64_t seed = 0; seed < 300; ++seed) {
+    for (std::size_t n : {3, 4, 6}) {
+      try {
+        (void)fit("quasi-elastic", input_of(random_walk(n, seed, 90)), {}, ReportLevel::kNone);
+      } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::kNotConverged);
+        ++failures;
+      }
+    }
+  }
+  EXPECT_EQ(failures, 0);
+}
+
+// ---- errors ----
+
+TEST(MinEnergyFit, Errors) {
+  // Stencil angles beyond 2Ω (Theorem 2.3): every offending point listed, index() the first.
+  const Point p2{2, 0};
+  const Point p3 = p2 + from_angle(100 * kDeg);
+  const Point p4 = p3 + from_angle(100 * kDeg);
+  const Point p5 = p4 + from_angle(-10 * kDeg);
+  const FitInput turns = input_of({{0, 0}, {1, 0}, p2, p3, p4, p5, p5 + from_angle(-10 * kDeg)});
+  const Error e = expect_error(ErrorCode::kInfeasible,
+                               [&] {
+                                 (void)fit("quasi-elastic", turns, {{"omega_deg", 45}});
+                               },
+                               {"point 2 ", "100.00", "point 4 ", "-110.00", "90.00"});
+  EXPECT_EQ(e.index(), 2u);
+  EXPECT_EQ(std::string(e.what()).find("point 3 "), std::string::npos);
+  (void)fit("quasi-elastic", turns, {{"omega_deg", 55.5}});  // 2Ω = 111° > 110°: fine
+  // The closing node of a closed curve counts: a square with Ω = 40° (2Ω = 80° < 90°).
+  const FitInput square = input_of({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, true);
+  const Error sq = expect_error(ErrorCode::kInfeasible,
+                                [&] {
+                                  (void)fit("quasi-elastic", square, {{"omega_deg", 40}});
+                                },
+                                {"point 0 ", "point 3 "});
+  EXPECT_EQ(sq.index(), 0u);
+  // The reference refuses the same data.
+  MinEnergyOptions narrow;
+  narrow.method = cond_g2(1.0, 40 * kDeg);
+  expect_error(ErrorCode::kInfeasible, [&] { (void)min_energy_reference(square, narrow); });
+
+  // A clamped tangent outside its feasible range.
+  FitInput clamp = input_of({{0, 0}, {1, 0}, {2, 0}, {3, 0}});
+  clamp.kinds = {PointKind::kSmooth, PointKind::kSmooth, PointKind::kClamped, PointKind::kSmooth};
+  clamp.tangents = {std::nullopt, std::nullopt, from_angle(95 * kDeg), std::nullopt};
+  const Error ce = expect_error(ErrorCode::kInfeasible, [&] { (void)fit("quasi-elastic", clamp); },
+                                {"point 2 ", "95.00"});
+  EXPECT_EQ(ce.index(), 2u);
+  clamp.tangents[2] = from_angle(85 * kDeg);
+  (void)fit("quasi-elastic", clamp);
+  FitInput start = input_of({{0, 0}, {1, 0}, {2, 1}});
+  start.start_tangent = Vec2{-1, 0.1};
+  const Error se = expect_error(ErrorCode::kInfeasible, [&] { (void)fit("quasi-elastic", start); },
+                                {"point 0 "});
+  EXPECT_EQ(se.index(), 0u);
+  FitInput end = input_of({{0, 0}, {1, 0}, {2, 0}});
+  end.end_tangent = Vec2{0, 1};  // 90°: on the bound, allowed
+  (void)fit("quasi-elastic", end);
+  end.end_tangent = Vec2{-0.01, 1};
+  const Error ee =
+      expect_error(ErrorCode::kInfeasible, [&] { (void)fit("quasi-elastic", end); }, {"point 2 "});
+  EXPECT_EQ(ee.index(), 2u);
+
+  // Options.
+  const FitInput ok = input_of(random_walk(10, 3, 60));
+  for (double lambda : {0.0, 3.0, -1.0, 3.5}) {
+    expect_error(ErrorCode::kBadOption,
+                 [&] {
+                   (void)fit("cond-g2", ok, {{"lambda", lambda}});
+                 },
+                 {"lambda"});
+  }
+  for (double omega : {0.0, 90.5, -10.0}) {
+    expect_error(ErrorCode::kBadOption,
+                 [&] {
+                   (void)fit("quasi-elastic", ok, {{"omega_deg", omega}});
+                 },
+                 {"omega_deg"});
+  }
+  expect_error(ErrorCode::kBadOption,
+               [&] {
+                 (void)fit("min-energy", ok, {{"basis", "jaklic-zagar"}, {"omega_deg", 90}});
+               },
+               {"jaklic-zagar"});
+  expect_error(ErrorCode::kBadOption, [&] { (void)fit("min-energy", ok, {{"basis", "elastic"}}); });
+  expect_error(ErrorCode::kUnknownOption, [&] { (void)fit("quasi-elastic", ok, {{"omega", 10}}); });
+  MinEnergyOptions wide;
+  wide.method = cond_g2(1.0, 2.0);
+  FitResult out;
+  expect_error(ErrorCode::kBadOption, [&] { fit_min_energy(ok, wide, ReportLevel::kNone, out); });
+  wide.method = jaklic_zagar(kPi / 2);
+  expect_error(ErrorCode::kBadOption, [&] { fit_min_energy(ok, wide, ReportLevel::kNone, out); });
+  // Iteration limit: a hard problem cannot converge in one Newton step.
+  expect_error(ErrorCode::kNotConverged, [&] {
+    (void)fit("quasi-elastic", input_of(random_walk(40, 4, 150)), {{"max_iterations", 1}});
+  });
+
+  // Input.
+  expect_error(ErrorCode::kNonFinite, [] {
+    (void)fit("quasi-elastic", input_of({{0, 0}, {NAN, 1}, {2, 0}}));
+  });
+  expect_error(ErrorCode::kTooFewPoints, [] { (void)fit("quasi-elastic", input_of({{0, 0}})); });
+  expect_error(ErrorCode::kTooFewPoints, [] {
+    (void)fit("quasi-elastic", input_of({{0, 0}, {1, 0}}, true));
+  });
+  expect_error(ErrorCode::kRepeatedPoint, [] {
+    (void)fit("quasi-elastic", input_of({{0, 0}, {1, 0}, {1, 0}, {2, 0}}));
+  });
+  // Two points: one straight span, zero energy.
+  const FitResult two = fit("quasi-elastic", input_of({{0, 0}, {3, 4}}), {}, ReportLevel::kBasic);
+  EXPECT_NEAR(two.method_report["energy"].get<double>(), 0.0, 1e-15);
+  EXPECT_LT(norm(two.tangents[0] - Vec2{0.6, 0.8}), 1e-15);
+}
+
+// ---- invariance ----
+
+RC_GTEST_PROP(MinEnergyProps, InvariantUnderSimilaritiesMirrorAndReversal, ()) {
+  const auto seed = static_cast<std::uint64_t>(*rc::gen::inRange(0, 1000000));
+  const auto n = static_cast<std::size_t>(*rc::gen::inRange(3, 25));
+  const bool closed = *rc::gen::arbitrary<bool>();
+  const int which = *rc::gen::inRange(0, 4);
+  const BasicCurveMethod m = which == 0   ? cond_g2(1.0)
+                             : which == 1 ? cond_g2(0.6)
+                             : which == 2 ? jaklic_zagar()
+                                          : yong_cheng();
+  const std::vector<Point> pts = random_walk(n, seed, m.basis == MinEnergyBasis::kCondG2 ? 90 : 50);
+  const std::vector<double> psi = stencil_angles(pts, closed);
+  RC_PRE(std::all_of(psi.begin(), psi.end(),
+                     [&](double p) { return std::abs(p) < 2 * m.omega - 1e-6; }));
+  const double rot = *rc::gen::inRange(-314, 314) * 0.01 + 1e-3;
+  const double scale = std::pow(10.0, *rc::gen::inRange(-3, 4)) * 1.3;
+  const Vec2 shift{*rc::gen::inRange(-1000, 1000) * 0.1, *rc::gen::inRange(-1000, 1000) * 0.1};
+  const bool mirror = *rc::gen::arbitrary<bool>();
+  auto map = [&](Point p) {
+    if (mirror) p.y = -p.y;
+    return shift + scale * rotate(p, rot);
+  };
+  std::vector<Point> moved;
+  for (Point p : pts) moved.push_back(map(p));
+  std::vector<Point> reversed(pts.rbegin(), pts.rend());
+  if (closed) std::rotate(reversed.rbegin(), reversed.rbegin() + 1, reversed.rend());  // p0 first
+
+  FitResult a, b, c;
+  try {
+    a = fit_with(m, input_of(pts, closed));
+    b = fit_with(m, input_of(moved, closed));
+    c = fit_with(m, input_of(reversed, closed));
+  } catch (const Error& e) {
+    // The known non-convergence of λ = 1 on short data (MinEnergyFit.
+    // ConvergesOnShortNearlyStraightData) is tested there; remove this discard once fixed.
+    RC_PRE(!(e.code() == ErrorCode::kNotConverged && m.lambda == 1.0 &&
+             m.basis == MinEnergyBasis::kCondG2));
+    throw;
+  }
+  const double ea = a.method_report["energy"].get<double>();
+  const double eb = b.method_report["energy"].get<double>();
+  const double ec = c.method_report["energy"].get<double>();
+  RC_ASSERT(std::abs(eb * scale - ea) <= 1e-9 * ea + 1e-13);
+  RC_ASSERT(std::abs(ec - ea) <= 1e-9 * ea + 1e-13);
+  RC_ASSERT(active_of(a) == active_of(b));
+  // The same curve, moved / backwards.
+  const double tol = 1e-7 * (1 + testing::scale_of(pts));
+  for (std::size_t s = 0; s < a.spline.segments.size(); ++s) {
+    for (int k = 0; k < 4; ++k) {
+      const Point q = map(a.spline.segments[s].bezier.p[k]);
+      RC_ASSERT(norm(q - b.spline.segments[s].bezier.p[k]) <= tol * scale + 1e-12 * norm(shift));
+    }
+  }
+  RC_ASSERT(testing::is_reversed_curve(a, c, tol));
+}
+
+}  // namespace
+}  // namespace fairspline
