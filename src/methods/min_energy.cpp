@@ -64,23 +64,28 @@ HD ogh_energy(HD t, HD p) {
   return 12.0 * (num / den);
 }
 
+/// Conditionally G2 cubic (Theorem 4.4) from the cosines and sines of α and β.
+inline BasicEnergy cond_g2_energy(double lambda, double ca, double sa, double cb, double sb) {
+  BasicEnergy r;
+  const double l = lambda, l2 = 2.0 * l * l, l6 = 6.0 * l;
+  const double cd = ca * cb + sa * sb, sd = sa * cb - ca * sb;  // cos, sin of α − β
+  // Cancels terms of size ~6λ(λ+2) near straight data: the line search allows for that
+  // rounding (rounding_scale).
+  r.e = l2 * cd - l6 * (ca + cb) + 2.0 * l2 + 6.0;
+  r.ea = -l2 * sd + l6 * sa;
+  r.eb = l2 * sd + l6 * sb;
+  r.eaa = -l2 * cd + l6 * ca;
+  r.ebb = -l2 * cd + l6 * cb;
+  r.eab = l2 * cd;
+  return r;
+}
+
 /// E_1 from the cosines and sines of α and β (the optimizer's inner loop).
 BasicEnergy energy_cs(const BasicCurveMethod& m, double ca, double sa, double cb, double sb) {
   BasicEnergy r;
   switch (m.basis) {
-    case MinEnergyBasis::kCondG2: {
-      const double l = m.lambda, l2 = 2.0 * l * l, l6 = 6.0 * l;
-      const double cd = ca * cb + sa * sb, sd = sa * cb - ca * sb;  // cos, sin of α − β
-      // Cancels terms of size ~6λ(λ+2) near straight data: the line search allows for that
-      // rounding (rounding_scale).
-      r.e = l2 * cd - l6 * (ca + cb) + 2.0 * l2 + 6.0;
-      r.ea = -l2 * sd + l6 * sa;
-      r.eb = l2 * sd + l6 * sb;
-      r.eaa = -l2 * cd + l6 * ca;
-      r.ebb = -l2 * cd + l6 * cb;
-      r.eab = l2 * cd;
-      return r;
-    }
+    case MinEnergyBasis::kCondG2:
+      return cond_g2_energy(m.lambda, ca, sa, cb, sb);
     case MinEnergyBasis::kJaklicZagar:
       r.e = sa * sa + sb * sb;
       r.ea = 2.0 * sa * ca;
@@ -172,13 +177,15 @@ struct Evaluation {
   std::vector<double> g, d, e;  // gradient, Hessian diagonal, off-diagonal (i, i+1)
 };
 
-/// Energy (and, with `derivatives`, gradient and tridiagonal Hessian) of a chain at x.
-double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const double> x,
-                bool derivatives, Evaluation& ev, std::vector<double>& cs) {
+/// Energy (and, with kDerivatives, gradient and tridiagonal Hessian) of a chain at x, with the
+/// basic energy `energy(cos α, sin α, cos β, sin β)` inlined into the loop.
+template <bool kDerivatives, typename Energy>
+double evaluate_with(const Chain& ch, std::span<const double> x, Evaluation& ev,
+                     std::vector<double>& cs, Energy energy) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
   cs.resize(2 * k);
   for (std::size_t i = 0; i < k; ++i) ::sincos(x[i], &cs[2 * i + 1], &cs[2 * i]);
-  if (derivatives) {
+  if constexpr (kDerivatives) {
     ev.g.assign(k, 0.0);
     ev.d.assign(k, 0.0);
     ev.e.assign(k, 0.0);
@@ -190,10 +197,10 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
     // α = x_i + a_i, β = x_j + b_j by the angle-addition formulas.
     const double ca = cx * ch.ca[i] - sx * ch.sa[i], sa = sx * ch.ca[i] + cx * ch.sa[i];
     const double cb = cy * ch.cb[j] - sy * ch.sb[j], sb = sy * ch.cb[j] + cy * ch.sb[j];
-    const BasicEnergy be = energy_cs(m, ca, sa, cb, sb);
+    const BasicEnergy be = energy(ca, sa, cb, sb);
     const double w = ch.w[s];
     total += w * be.e;
-    if (derivatives) {
+    if constexpr (kDerivatives) {
       ev.g[i] += w * be.ea;
       ev.g[j] += w * be.eb;
       ev.d[i] += w * be.eaa;
@@ -203,6 +210,22 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
   }
   ev.energy = total;
   return total;
+}
+
+double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const double> x,
+                bool derivatives, Evaluation& ev, std::vector<double>& cs) {
+  auto run = [&](auto energy) {
+    return derivatives ? evaluate_with<true>(ch, x, ev, cs, energy)
+                       : evaluate_with<false>(ch, x, ev, cs, energy);
+  };
+  if (m.basis == MinEnergyBasis::kCondG2) {
+    const double l = m.lambda;
+    return run([l](double ca, double sa, double cb, double sb) {
+      return cond_g2_energy(l, ca, sa, cb, sb);
+    });
+  }
+  return run(
+      [&m](double ca, double sa, double cb, double sb) { return energy_cs(m, ca, sa, cb, sb); });
 }
 
 /// Solves the symmetric (cyclic when `corner`) tridiagonal system by LDLᵀ; false when a pivot is
