@@ -18,11 +18,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double wrap(double a) {  // to (−π, π]
-  a = std::remainder(a, 2.0 * kPi);
-  return a <= -kPi ? a + 2.0 * kPi : a;
-}
-
 /// Hyper-dual number a + b ε1 + c ε2 + d ε1ε2 (ε1² = ε2² = 0): exact first and mixed second
 /// derivatives of a smooth expression in one pass (used for the Yong–Cheng energy).
 struct HD {
@@ -166,7 +161,8 @@ struct Chain {
   bool closed = false;
   std::vector<std::size_t> node;  // point indices
   // Per node: α of the next segment = x + a, β of the previous = x + b; x ∈ [lo, hi].
-  std::vector<double> ref, ca, sa, cb, sb, lo, hi, x;
+  std::vector<Vec2> ref;  // per node: unit reference direction (x = 0)
+  std::vector<double> ca, sa, cb, sb, lo, hi, x;
   std::vector<char> fixed;
   std::vector<double> w;  // per segment: 1 / L
   std::size_t segments() const { return closed ? node.size() : node.size() - 1; }
@@ -177,6 +173,45 @@ struct Evaluation {
   std::vector<double> g, d, e;  // gradient, Hessian diagonal, off-diagonal (i, i+1)
 };
 
+/// sin and cos of an angle offset. The offsets stay within ±Ω ≤ ±π/2 (the feasible boxes), where
+/// the Taylor series to degree 21/22 is exact to rounding ((π/2)^23/23! < 2e-18) and, unlike a
+/// libm call, vectorizes across nodes; other angles take the libm path.
+inline void sincos_small(double x, double& sn, double& cn) {
+  if (!(std::abs(x) <= 1.6)) {
+    ::sincos(x, &sn, &cn);
+    return;
+  }
+  const double z = x * x;
+  // sin x = x Σ (−z)^k / (2k+1)!, cos x = Σ (−z)^k / (2k)!, k = 0..10 / 0..11 (Horner).
+  double ps = 1.0 / 51090942171709440000.0;     // +1/21!
+  double pc = -1.0 / 1124000727777607680000.0;  // −1/22!
+  constexpr double kInvFact[] = {1.0,
+                                 1.0,
+                                 1.0 / 2,
+                                 1.0 / 6,
+                                 1.0 / 24,
+                                 1.0 / 120,
+                                 1.0 / 720,
+                                 1.0 / 5040,
+                                 1.0 / 40320,
+                                 1.0 / 362880,
+                                 1.0 / 3628800,
+                                 1.0 / 39916800,
+                                 1.0 / 479001600,
+                                 1.0 / 6227020800.0,
+                                 1.0 / 87178291200.0,
+                                 1.0 / 1307674368000.0,
+                                 1.0 / 20922789888000.0,
+                                 1.0 / 355687428096000.0,
+                                 1.0 / 6402373705728000.0,
+                                 1.0 / 121645100408832000.0,
+                                 1.0 / 2432902008176640000.0};
+  for (int j = 19; j >= 1; j -= 2) ps = ps * z + ((j / 2) % 2 == 0 ? 1.0 : -1.0) * kInvFact[j];
+  for (int j = 20; j >= 0; j -= 2) pc = pc * z + ((j / 2) % 2 == 0 ? 1.0 : -1.0) * kInvFact[j];
+  sn = x * ps;
+  cn = pc;
+}
+
 /// Energy (and, with kDerivatives, gradient and tridiagonal Hessian) of a chain at x, with the
 /// basic energy `energy(cos α, sin α, cos β, sin β)` inlined into the loop.
 template <bool kDerivatives, typename Energy>
@@ -184,7 +219,7 @@ double evaluate_with(const Chain& ch, std::span<const double> x, Evaluation& ev,
                      std::vector<double>& cs, Energy energy) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
   cs.resize(2 * k);
-  for (std::size_t i = 0; i < k; ++i) ::sincos(x[i], &cs[2 * i + 1], &cs[2 * i]);
+  for (std::size_t i = 0; i < k; ++i) sincos_small(x[i], cs[2 * i + 1], cs[2 * i]);
   if constexpr (kDerivatives) {
     ev.g.assign(k, 0.0);
     ev.d.assign(k, 0.0);
@@ -414,11 +449,12 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   const std::size_t n = P.size();
   const bool closed = out.closed;
   const std::size_t segs = closed ? n : n - 1;
-  std::vector<double> phi(segs), len(segs);
+  std::vector<Vec2> unit(segs);  // unit chords
+  std::vector<double> len(segs);
   for (std::size_t s = 0; s < segs; ++s) {
     const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
-    phi[s] = std::atan2(c.y, c.x);
     len[s] = norm(c);
+    unit[s] = (1.0 / len[s]) * c;
   }
   auto kind = [&](std::size_t i) {
     return i < input.kinds.size() ? input.kinds[i] : PointKind::kSmooth;
@@ -481,29 +517,40 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     for (std::size_t t = 0; t < k; ++t) {
       const std::size_t i = ch.node[t];
       const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
-      const double pn = has_next ? phi[seg_of(t)] : 0.0;
-      const double pp = has_prev ? phi[seg_of(t == 0 ? k - 1 : t - 1)] : 0.0;
-      double ref, a = 0.0, b = 0.0, half = 0.0;
+      const Vec2 en = has_next ? unit[seg_of(t)] : Vec2{};
+      const Vec2 ep = has_prev ? unit[seg_of(t == 0 ? k - 1 : t - 1)] : Vec2{};
+      // Reference direction: the bisector of the chords (rotate ep by ψ/2, half-angle
+      // formulas, no trigonometry); at a free end the adjacent chord (Remark 2.4 (a)).
+      Vec2 ref;
+      double hc = 1.0, hs = 0.0, half = 0.0;
       if (has_next && has_prev) {
-        const double psi = wrap(pn - pp);  // stencil angle ψ_i
-        ref = pp + 0.5 * psi;
-        a = -0.5 * psi;
-        b = 0.5 * psi;
+        const double c = dot(ep, en), sn = cross(ep, en);
+        const double psi = std::atan2(sn, c);  // stencil angle ψ_i
+        if (c > -0.5) {
+          hc = std::sqrt(0.5 * (1.0 + c));
+          hs = sn / (2.0 * hc);
+        } else {
+          hs = (sn < 0.0 ? -1.0 : 1.0) * std::sqrt(0.5 * (1.0 - c));
+          hc = sn / (2.0 * hs);
+        }
+        ref = {ep.x * hc - ep.y * hs, ep.y * hc + ep.x * hs};
         half = 0.5 * std::abs(psi);
         if (std::abs(psi) > 2.0 * omega) {
           fail(i, "(stencil angle " + deg(psi) + "° > 2Ω = " + deg(2.0 * omega) + "°)");
         }
       } else {
-        ref = has_next ? pn : pp;  // Remark 2.4 (a): ψ = 0 at a free end
+        ref = has_next ? en : ep;
       }
       ch.ref[t] = ref;
-      ch.ca[t] = std::cos(a), ch.sa[t] = std::sin(a);
-      ch.cb[t] = std::cos(b), ch.sb[t] = std::sin(b);
+      ch.ca[t] = hc, ch.sa[t] = -hs;  // α = x − ψ/2
+      ch.cb[t] = hc, ch.sb[t] = hs;   // β = x + ψ/2
       ch.lo[t] = -(omega - half);
       ch.hi[t] = omega - half;
       if (given[i]) {
-        const double x = wrap(std::atan2(given[i]->y, given[i]->x) - ref);
-        const double al = wrap(x + a), be = wrap(x + b);
+        const Vec2 d = *given[i];
+        const double x = std::atan2(cross(ref, d), dot(ref, d));
+        const double al = std::atan2(cross(en, d), dot(en, d));
+        const double be = std::atan2(cross(ep, d), dot(ep, d));
         if ((has_next && std::abs(al) > omega) || (has_prev && std::abs(be) > omega)) {
           fail(i, "(the given tangent makes an angle of " +
                       deg(has_next && std::abs(al) > omega ? al : be) +
@@ -579,7 +626,9 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
         rep.active.push_back(ch.node[t]);
       }
-      u[t] = from_angle(ch.ref[t] + x);
+      double sx, cx;
+      sincos_small(x, sx, cx);
+      u[t] = {ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
       // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
         out.tangents[ch.node[t]] = u[t];
@@ -688,7 +737,8 @@ MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOp
     ref.energy += evaluate(ch, m, ch.x, false, ev, cs);
     for (std::size_t t = 0; t < k; ++t) {  // outgoing direction at corners, as fit_min_energy
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == out.points.size() - 1)) {
-        ref.angles[ch.node[t]] = ch.ref[t] + ch.x[t];
+        const Vec2 r = ch.ref[t];
+        ref.angles[ch.node[t]] = std::atan2(r.y, r.x) + ch.x[t];
       }
     }
   }
