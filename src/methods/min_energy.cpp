@@ -221,9 +221,13 @@ double evaluate_with(const Chain& ch, std::span<const double> x, Evaluation& ev,
   cs.resize(2 * k);
   for (std::size_t i = 0; i < k; ++i) sincos_small(x[i], cs[2 * i + 1], cs[2 * i]);
   if constexpr (kDerivatives) {
-    ev.g.assign(k, 0.0);
-    ev.d.assign(k, 0.0);
-    ev.e.assign(k, 0.0);
+    // Every entry is written by the segment that ends at its node (node 0 of an open chain has
+    // none): no zero-fill pass.
+    ev.g.resize(k);
+    ev.d.resize(k);
+    ev.e.resize(k);
+    ev.g[0] = ev.d[0] = 0.0;
+    ev.e[k - 1] = 0.0;
   }
   double total = 0.0;
   for (std::size_t s = 0; s < segs; ++s) {
@@ -237,9 +241,14 @@ double evaluate_with(const Chain& ch, std::span<const double> x, Evaluation& ev,
     total += w * be.e;
     if constexpr (kDerivatives) {
       ev.g[i] += w * be.ea;
-      ev.g[j] += w * be.eb;
       ev.d[i] += w * be.eaa;
-      ev.d[j] += w * be.ebb;
+      if (j == 0) {  // the closing segment of a closed chain
+        ev.g[0] += w * be.eb;
+        ev.d[0] += w * be.ebb;
+      } else {
+        ev.g[j] = w * be.eb;
+        ev.d[j] = w * be.ebb;
+      }
       ev.e[s] = w * be.eab;  // couples i and j (s = k−1: the corner of a closed chain)
     }
   }
