@@ -289,19 +289,20 @@ bool ldl_solve(std::span<const double> d, std::span<const double> e, bool corner
   const double tiny = 1e-14 * scale;
   if (!corner || n < 3) {
     // D_i = d_i − l_{i−1} e_{i−1} (= d_i − l² D_{i−1}); one division per row.
+    // Factorization fused with the forward substitution L y = b; then x = D⁻¹y − Lᵀx.
     double prev = 0.0;  // l_{i−1} e_{i−1}
     for (std::size_t i = 0; i < n; ++i) {
       const double piv = d[i] - prev;
       if (!(piv > tiny)) return false;
       D[i] = 1.0 / piv;
+      if (i > 0) b[i] -= l[i - 1] * b[i - 1];
       if (i + 1 < n) {
         l[i] = e[i] * D[i];
         prev = l[i] * e[i];
       }
     }
-    for (std::size_t i = 1; i < n; ++i) b[i] -= l[i - 1] * b[i - 1];
-    for (std::size_t i = 0; i < n; ++i) b[i] *= D[i];
-    for (std::size_t i = n - 1; i-- > 0;) b[i] -= l[i] * b[i + 1];
+    b[n - 1] *= D[n - 1];
+    for (std::size_t i = n - 1; i-- > 0;) b[i] = b[i] * D[i] - l[i] * b[i + 1];
     return true;
   }
   const double c = e[n - 1];  // couples n−1 and 0
@@ -340,7 +341,6 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const bool cyclic = ch.closed;
   Evaluation ev, trial;
   std::vector<double> cs, dir(k), xn(k), dd(k), ee(k), work;
-  std::vector<char> active(k, 0);
   ChainResult res;
   const double tol = opt.tolerance * gscale;
   auto clampx = [&](std::size_t i, double v) { return std::clamp(v, ch.lo[i], ch.hi[i]); };
@@ -368,18 +368,22 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     if (res.iterations == opt.max_iterations) break;
     // Active set (Bertsekas): at a bound with the gradient pushing outwards.
     const double eps = std::min(1e-8, pg);
-    for (std::size_t i = 0; i < k; ++i) {
-      active[i] = ch.fixed[i] || (ch.x[i] <= ch.lo[i] + eps && ev.g[i] > 0.0) ||
-                  (ch.x[i] >= ch.hi[i] - eps && ev.g[i] < 0.0);
-    }
-    // Reduced Newton system, shifted until positive definite.
+    auto is_active = [&](std::size_t i) -> char {
+      return ch.fixed[i] || (ch.x[i] <= ch.lo[i] + eps && ev.g[i] > 0.0) ||
+             (ch.x[i] >= ch.hi[i] - eps && ev.g[i] < 0.0);
+    };
+    // Reduced Newton system (identity rows for active directions), shifted until positive
+    // definite.
     double tau = 0.0;
     for (int attempt = 0; attempt < 60; ++attempt) {
+      char act = is_active(0);
+      const char act0 = act;
       for (std::size_t i = 0; i < k; ++i) {
-        dd[i] = active[i] ? 1.0 : ev.d[i] + tau;
-        const std::size_t j = i + 1 == k ? 0 : i + 1;
-        ee[i] = (active[i] || active[j]) ? 0.0 : ev.e[i];
-        dir[i] = active[i] ? 0.0 : -ev.g[i];
+        const char next = i + 1 < k ? is_active(i + 1) : act0;
+        dd[i] = act ? 1.0 : ev.d[i] + tau;
+        ee[i] = (act || next) ? 0.0 : ev.e[i];
+        dir[i] = act ? 0.0 : -ev.g[i];
+        act = next;
       }
       if (!cyclic) ee[k - 1] = 0.0;
       if (ldl_solve(dd, ee, cyclic, dir, work)) break;
