@@ -3,8 +3,9 @@
 //   fit/quasi-elastic/closed/1e5             periodic (cyclic LDLᵀ)
 //   reference/quasi-elastic/1000             the Curve-Ensemble-like coordinate descent
 //   newton/quasi-elastic/1000                fit_min_energy on the same 1000 points
-// Goals (issue 6): at 1e5 points >= 2M points/s and >= half of SciPy's linear spline
-// (bench/compare_scipy.py --method quasi-elastic --peer linear --n 100000); at 1000 points
+// Goals (issue 6): at 1e5 points >= 2M points/s and >= half of SciPy's natural spline, which
+// solves a linear system (bench/compare_scipy.py --method quasi-elastic --n 100000 --target 0.5;
+// `--peer linear` times SciPy's piecewise-linear interpolant instead); at 1000 points
 // >= 50x faster than the reference at equal or lower energy (counter "energy").
 #include <cstdint>
 
