@@ -162,6 +162,27 @@ TEST_F(Cli, KozakKrajncExampleAndPointCountError) {
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
 
+TEST_F(Cli, MinEnergyKindsFromJson) {
+  // A closed square with a corner at point 0: one open piece from the corner around to it.
+  const CliRun a = run("fit -",
+                       R"({"points": [[0,0],[2,0],[2,2],[0,2],[1,1]], "closed": true,
+          "kinds": ["corner","smooth","smooth","smooth","smooth"]})");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const json j = json::parse(a.out);
+  EXPECT_EQ(j["method"], "quasi-elastic");
+  EXPECT_EQ(j["method_report"]["pieces"], 1);
+  EXPECT_EQ(j["method_report"]["status"], "converged");
+  EXPECT_GT(j["report"]["max_tangent_angle_jump_deg"].get<double>(), 10.0);  // the corner
+  // A clamped tangent at 124° to its chord: infeasible, exit 1, the point named.
+  const CliRun b = run("fit -",
+                       R"({"points": [[0,0],[2,0],[2,2],[0,2],[1,1]], "closed": true,
+          "kinds": ["clamped","smooth","smooth","smooth","smooth"],
+          "tangents": [[1,-0.2],null,null,null,null]})");
+  EXPECT_EQ(b.exit_code, 1);
+  EXPECT_NE(b.err.find("[infeasible] at point 0"), std::string::npos) << b.err;
+  EXPECT_NE(b.err.find("given tangent"), std::string::npos) << b.err;
+}
+
 TEST_F(Cli, DefaultMethodAndStdin) {
   const std::string csv = slurp(kExample);
   const CliRun a = run("fit", csv);

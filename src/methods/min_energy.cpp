@@ -577,10 +577,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   }
   if (first_bad != n) {
     throw Error(ErrorCode::kInfeasible,
-                "no admissible curve exists (Theorem 2.3: every stencil angle must satisfy "
-                "|ψ| <= 2Ω): " +
+                "no admissible curve exists (Theorem 2.3 and Remark 2.4: every stencil angle "
+                "needs |ψ| <= 2Ω and every given tangent an angle <= Ω with its chords): " +
                     bad +
-                    ". Raise omega_deg (at most 90), split the curve with a "
+                    ". Raise omega_deg (at most 90), change the tangent, split the curve with a "
                     "corner there, or remove the point",
                 first_bad);
   }
