@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -91,6 +92,17 @@ Error expect_error(F&& fn) {
   }
   ADD_FAILURE() << "expected fairspline::Error";
   return Error(ErrorCode::kInvalidArgument, "no error");
+}
+
+/// fn throws Error with `code` and a message containing every one of `parts`.
+template <typename F>
+Error expect_error(ErrorCode code, F&& fn, const std::vector<std::string>& parts = {}) {
+  const Error e = expect_error(std::forward<F>(fn));
+  EXPECT_EQ(e.code(), code) << e.what();
+  for (const std::string& part : parts) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
+  }
+  return e;
 }
 
 }  // namespace fairspline::testing

@@ -33,16 +33,7 @@ using testing::random_walk;
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
-/// fn throws Error with `code` and a message containing every one of `parts`.
-template <typename F>
-Error expect_error(ErrorCode code, F&& fn, const std::vector<std::string>& parts = {}) {
-  const Error e = testing::expect_error(std::forward<F>(fn));
-  EXPECT_EQ(e.code(), code) << e.what();
-  for (const std::string& part : parts) {
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
-  }
-  return e;
-}
+using testing::expect_error;
 
 BasicCurveMethod cond_g2(double lambda, double omega = kPi / 2) {
   return {MinEnergyBasis::kCondG2, lambda, omega};
