@@ -335,6 +335,27 @@ struct ChainResult {
 };
 
 /// Projected Newton (bound constraints, active set) on one chain, from ch.x.
+/// max |x − P(x − g)| over the nodes (P: projection on the boxes; a fixed node has lo = hi = x,
+/// so it contributes 0).
+double projected_gradient(const Chain& ch, std::span<const double> g) {
+  double pg = 0.0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    pg = std::max(pg, std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i], ch.lo[i], ch.hi[i])));
+  }
+  return pg;
+}
+
+/// xn = P(x + step·dir); returns the first-order change g·(xn − x).
+double project_step(const Chain& ch, std::span<const double> dir, double step,
+                    std::span<const double> g, std::vector<double>& xn) {
+  double decrease = 0.0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    xn[i] = std::clamp(ch.x[i] + step * dir[i], ch.lo[i], ch.hi[i]);
+    decrease += g[i] * (xn[i] - ch.x[i]);
+  }
+  return decrease;
+}
+
 ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const BasicCurveMethod& m = opt.method;
   const std::size_t k = ch.node.size();
@@ -343,7 +364,6 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   std::vector<double> cs, dir(k), xn(k), dd(k), ee(k), work;
   ChainResult res;
   const double tol = opt.tolerance * gscale;
-  auto clampx = [&](std::size_t i, double v) { return std::clamp(v, ch.lo[i], ch.hi[i]); };
   double energy = evaluate(ch, m, ch.x, true, ev, cs);
   // Size of the rounding in a computed total energy: cond-G2's E_1 cancels terms of size
   // 6λ² + 12λ + 6 per unit chord; the other bases' sine forms do not cancel.
@@ -354,12 +374,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const double rounding_scale =
       1e-14 * (term * wsum + std::abs(energy)) * std::sqrt(static_cast<double>(k));
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
-    // Projected gradient and the largest Hessian diagonal entry.
-    double pg = 0.0, dmax = 0.0;
-    for (std::size_t i = 0; i < k; ++i) {
-      dmax = std::max(dmax, std::abs(ev.d[i]));
-      if (!ch.fixed[i]) pg = std::max(pg, std::abs(ch.x[i] - clampx(i, ch.x[i] - ev.g[i])));
-    }
+    const double pg = projected_gradient(ch, ev.g);
     res.pg = pg / gscale;
     if (pg <= tol) {
       res.converged = true;
@@ -374,7 +389,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     };
     // Reduced Newton system (identity rows for active directions), shifted until positive
     // definite.
-    double tau = 0.0;
+    double tau = 0.0, dmax = 0.0;
     for (int attempt = 0; attempt < 60; ++attempt) {
       char act = is_active(0);
       const char act0 = act;
@@ -387,16 +402,15 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       }
       if (!cyclic) ee[k - 1] = 0.0;
       if (ldl_solve(dd, ee, cyclic, dir, work)) break;
+      if (tau == 0.0) {
+        for (double v : ev.d) dmax = std::max(dmax, std::abs(v));
+      }
       tau = tau == 0.0 ? 1e-10 * std::max(dmax, gscale) : 4.0 * tau;
     }
     // Projected line search (Armijo along the projection arc).
     bool accepted = false;
     for (double step = 1.0; step > 1e-12; step *= 0.5) {
-      double decrease = 0.0;
-      for (std::size_t i = 0; i < k; ++i) {
-        xn[i] = ch.fixed[i] ? ch.x[i] : clampx(i, ch.x[i] + step * dir[i]);
-        decrease += ev.g[i] * (xn[i] - ch.x[i]);
-      }
+      const double decrease = project_step(ch, dir, step, ev.g, xn);
       // The full step is evaluated with derivatives (it is usually accepted: Newton).
       const double en = evaluate(ch, m, xn, step == 1.0, trial, cs);
       // Armijo; near the optimum the decrease falls below the rounding of the total, so a full
@@ -416,12 +430,13 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     }
     if (!accepted) {
       // Newton direction useless here: one projected steepest-descent step.
+      dmax = 0.0;
+      for (std::size_t i = 0; i < k; ++i) {
+        dmax = std::max(dmax, std::abs(ev.d[i]));
+        dir[i] = -ev.g[i];
+      }
       for (double step = 1.0 / std::max(dmax, 1e-300); step > 1e-30; step *= 0.5) {
-        double decrease = 0.0;
-        for (std::size_t i = 0; i < k; ++i) {
-          xn[i] = ch.fixed[i] ? ch.x[i] : clampx(i, ch.x[i] - step * ev.g[i]);
-          decrease += ev.g[i] * (xn[i] - ch.x[i]);
-        }
+        const double decrease = project_step(ch, dir, step, ev.g, xn);
         if (!(decrease < 0.0)) break;
         const double en = evaluate(ch, m, xn, false, trial, cs);
         if (en <= energy + 1e-4 * decrease) {
@@ -434,10 +449,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     }
     if (!accepted) break;  // no descent possible at this precision
   }
-  double pg = 0.0;
-  for (std::size_t i = 0; i < k; ++i) {
-    if (!ch.fixed[i]) pg = std::max(pg, std::abs(ch.x[i] - clampx(i, ch.x[i] - ev.g[i])));
-  }
+  const double pg = projected_gradient(ch, ev.g);
   res.pg = pg / gscale;
   res.converged = pg <= tol;
   return res;
