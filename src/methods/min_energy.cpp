@@ -478,7 +478,8 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   std::vector<double> len(segs);
   for (std::size_t s = 0; s < segs; ++s) {
     const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
-    len[s] = norm(c);
+    const double l2 = c.x * c.x + c.y * c.y;  // sqrt is much cheaper than hypot; hypot only
+    len[s] = l2 > 1e-290 && l2 < 1e290 ? std::sqrt(l2) : norm(c);  // where squares misbehave
     unit[s] = (1.0 / len[s]) * c;
   }
   auto kind = [&](std::size_t i) {
