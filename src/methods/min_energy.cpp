@@ -500,7 +500,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
     Chain ch;
     ch.closed = cyclic;
-    for (std::size_t k = 0; k < count; ++k) ch.node.push_back((first + k) % n);
+    ch.node.resize(count);
+    for (std::size_t k = 0, i = first % n; k < count; ++k, i = i + 1 == n ? 0 : i + 1) {
+      ch.node[k] = i;
+    }
     chains.push_back(std::move(ch));
   };
   if (!closed) {
