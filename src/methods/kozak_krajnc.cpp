@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 #include "detail/bernstein.hpp"
@@ -411,7 +412,45 @@ int contact_order(const ClearedSystem& sys, double x, double y) {
 
 }  // namespace
 
+namespace {
+
+/// Power of two that brings the largest coordinate of the vectors to size ~1 (exact scaling).
+double unit_scale(std::initializer_list<Vec2> vs) {
+  double m = 0.0;
+  for (Vec2 v : vs) m = std::max({m, std::abs(v.x), std::abs(v.y)});
+  int e = 0;
+  std::frexp(m, &e);
+  return std::ldexp(1.0, -e);
+}
+
+KozakKrajncSolutions solve_unit(Point T0, Point T1, Point T2, Point T3, Vec2 d0, Vec2 d3);
+
+}  // namespace
+
 KozakKrajncSolutions kozak_krajnc_solve(Point T0, Point T1, Point T2, Point T3, Vec2 d0, Vec2 d3) {
+  for (Vec2 v : {T0, T1, T2, T3, d0, d3}) {
+    if (!is_finite(v)) throw Error(ErrorCode::kNonFinite, "kozak-krajnc: non-finite data");
+  }
+  // The constants (2.6) multiply chord coordinates: solve on data scaled by powers of two
+  // (exact) so that nothing overflows or underflows, then scale α and the energy back.
+  // Coordinates are scaled with the chords unless that would overflow them.
+  double k = unit_scale({T1 - T0, T2 - T1, T3 - T2});
+  const double kc = unit_scale({T0, T1, T2, T3});
+  if (k > kc * 0x1p1000) k = kc * 0x1p1000;
+  const double kd0 = unit_scale({d0}), kd3 = unit_scale({d3});
+  KozakKrajncSolutions out = solve_unit(k * T0, k * T1, k * T2, k * T3, kd0 * d0, kd3 * d3);
+  // P'(0) = α0·d0: the scaled problem has α̃0·(kd0 d0) = k α0 d0.
+  for (int i = 0; i < out.count; ++i) {
+    out.items[i].alpha0 *= kd0 / k;
+    out.items[i].alpha3 *= kd3 / k;
+    out.items[i].energy /= k * k;
+  }
+  return out;
+}
+
+namespace {
+
+KozakKrajncSolutions solve_unit(Point T0, Point T1, Point T2, Point T3, Vec2 d0, Vec2 d3) {
   const KozakKrajncConstants k = kozak_krajnc_constants(T0, T1, T2, T3, d0, d3);
   const Vec2 e0 = T1 - T0, e1 = T2 - T1, e2 = T3 - T2;
   const double d01 = cross(e0, e1), d12 = cross(e1, e2);
@@ -524,5 +563,7 @@ KozakKrajncSolutions kozak_krajnc_solve(Point T0, Point T1, Point T2, Point T3, 
   }
   return out;
 }
+
+}  // namespace
 
 }  // namespace fairspline

@@ -634,13 +634,14 @@ nlohmann::json set_json(const XiSet& s) {
   return a;
 }
 
-nlohmann::json solution_json(const KozakKrajncSolution& s) {
+/// A solution of the scaled problem in the input's units (α ∝ length, energy ∝ length²).
+nlohmann::json solution_json(const KozakKrajncSolution& s, double unscale) {
   return {{"t1", s.t1},
           {"t2", s.t2},
-          {"alpha0", s.alpha0},
-          {"alpha3", s.alpha3},
+          {"alpha0", s.alpha0 * unscale},
+          {"alpha3", s.alpha3 * unscale},
           {"multiplicity", s.multiplicity},
-          {"energy", s.energy}};
+          {"energy", s.energy * unscale * unscale}};
 }
 
 const char* tangents_name(KozakKrajncTangents t) {
@@ -688,7 +689,26 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                   i);
     }
   }
-  const std::span<const Point> T(out.points.data(), nk);
+  // Work on the points scaled by a power of two (exact) that brings the chords to size ~1: the
+  // constants (2.6) are products of chord coordinates and would overflow or underflow for data
+  // near the ends of the double range. The curve is scaled back at the end.
+  double max_chord = 0.0, max_coord = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    max_coord = std::max({max_coord, std::abs(out.points[i].x), std::abs(out.points[i].y)});
+    if (i + 1 < n) {
+      const Vec2 c = out.points[i + 1] - out.points[i];
+      max_chord = std::max({max_chord, std::abs(c.x), std::abs(c.y)});
+    }
+  }
+  int exponent = 0;
+  std::frexp(max_chord, &exponent);
+  int coord_exponent = 0;
+  std::frexp(max_coord, &coord_exponent);
+  exponent = std::max(exponent, coord_exponent - 1000);  // scaled coordinates stay finite
+  const double scale = std::ldexp(1.0, -exponent), unscale = std::ldexp(1.0, exponent);
+  std::vector<Point> scaled(n);
+  for (std::size_t i = 0; i < n; ++i) scaled[i] = scale * out.points[i];
+  const std::span<const Point> T(scaled.data(), nk);
   // Prescribed directions: per-point tangents at breakpoints, start/end tangents.
   std::vector<std::optional<Vec2>> given(n);
   for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) given[i] = input.tangents[i];
@@ -698,7 +718,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   // is the single-piece problem of Section 2, solved exactly whatever the directions.
   bool all_given = true;
   for (std::size_t i = 0; i < nk; i += 3) all_given = all_given && given[i].has_value();
-  const Geometry g = geometry(T, out.points, !all_given);
+  const Geometry g = geometry(T, scaled, !all_given);
   const std::size_t m = g.m;
 
   std::vector<std::optional<double>> fixed(m + 1);
@@ -870,14 +890,14 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   if (rest != 0) {
     std::vector<Vec2> d(n);
     d[nk - 1] = pieces[m].d3;
-    const std::span<const Point> all(out.points.data(), n);
+    const std::span<const Point> all(scaled.data(), n);
     for (std::size_t i = nk; i < n; ++i) {
       d[i] = given[i] ? unit(*given[i]) : unit(local_quadratic_direction(all, i, true));
     }
     for (std::size_t i = nk - 1; i + 1 < n; ++i) {
       // Yong–Cheng's composite optimized geometric Hermite curve: one OGH cubic, or two or three
       // when the directions would give a loop, cusp or fold (any angles allowed).
-      const CohCurve c = coh_curve(out.points[i], out.points[i + 1], d[i], d[i + 1]);
+      const CohCurve c = coh_curve(scaled[i], scaled[i + 1], d[i], d[i + 1]);
       const double ta = out.knots[i], tb = out.knots[i + 1];
       for (int k = 0; k < c.count; ++k) {
         out.spline.segments.push_back(
@@ -887,8 +907,9 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
       remainder_pieces += c.count;
     }
   }
-  for (const Segment& s : out.spline.segments) {
-    for (const Point& q : s.bezier.p) {
+  for (Segment& s : out.spline.segments) {
+    for (Point& q : s.bezier.p) {
+      q = unscale * q;
       if (!is_finite(q)) {
         throw Error(ErrorCode::kNonFinite,
                     "kozak-krajnc: a control point overflowed on span " + std::to_string(s.span),
@@ -904,8 +925,8 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   for (std::size_t l = 1; l <= m; ++l) {
     const PieceFit& p = pieces[l];
     nlohmann::json sols = nlohmann::json::array();
-    for (const KozakKrajncSolution& s : p.all) sols.push_back(solution_json(s));
-    nlohmann::json j = solution_json(p.s);
+    for (const KozakKrajncSolution& s : p.all) sols.push_back(solution_json(s, unscale));
+    nlohmann::json j = solution_json(p.s, unscale);
     j["points"] = {3 * l - 3, 3 * l};
     j["solutions"] = sols;
     j["xi"] = {xi[l - 1], xi[l]};

@@ -279,6 +279,38 @@ TEST(KozakKrajncSpline, AllDirectionsPrescribedSolvesEachPieceExactly) {
   EXPECT_EQ(outside, 1);  // found such a direction
 }
 
+TEST(KozakKrajncSpline, ExtremeScalesGiveTheSameCurveScaled) {
+  // The constants (2.6) multiply chord coordinates; the method and the solver work on data
+  // scaled by powers of two, so 1e±300 data give the same curve (and α ∝ scale).
+  const std::vector<Point> base{{0, 0}, {1, 1}, {2, 1.5}, {3, 1.6}, {4, 1.5}, {5, 1}, {6, 0}};
+  FitInput in;
+  in.points = base;
+  const FitResult ref = fit("kozak-krajnc", in, {}, ReportLevel::kNone);
+  for (double sc : {1e-300, 1e-150, 1e150, 1e300}) {
+    in.points.clear();
+    for (Point p : base) in.points.push_back(sc * p);
+    const FitResult r = fit("kozak-krajnc", in, {}, ReportLevel::kNone);
+    ASSERT_EQ(r.spline.segments.size(), ref.spline.segments.size());
+    for (std::size_t k = 0; k < r.spline.segments.size(); ++k) {
+      for (int j = 0; j < 4; ++j) {
+        const Point a = r.spline.segments[k].bezier.p[j], b = ref.spline.segments[k].bezier.p[j];
+        EXPECT_NEAR(a.x / sc, b.x, 1e-12) << sc;
+        EXPECT_NEAR(a.y / sc, b.y, 1e-12) << sc;
+      }
+    }
+    const KozakKrajncSolutions a = kozak_krajnc_solve(sc * base[0], sc * base[1], sc * base[2],
+                                                      sc * base[3], {1, 2}, {1, -0.3});
+    const KozakKrajncSolutions b =
+        kozak_krajnc_solve(base[0], base[1], base[2], base[3], {1, 2}, {1, -0.3});
+    ASSERT_GE(b.count, 1);
+    ASSERT_EQ(a.count, b.count) << sc;
+    for (int i = 0; i < a.count; ++i) {
+      EXPECT_NEAR(a.items[i].t1, b.items[i].t1, 1e-14);
+      EXPECT_NEAR(a.items[i].alpha0 / sc, b.items[i].alpha0, 1e-12 * b.items[i].alpha0);
+    }
+  }
+}
+
 TEST(KozakKrajncSpline, G2NewtonRemovesTheCurvatureJumps) {
   // Ten points on an ellipse x = 3 cos, y = sin, sampled every 24 or 30 degrees.
   for (std::size_t n : {12u, 15u}) {
