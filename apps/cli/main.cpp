@@ -30,6 +30,7 @@
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
+#include "server.hpp"
 
 namespace fs = std::filesystem;
 using fairspline::Error;
@@ -328,6 +329,19 @@ int run_bench(const BenchArgs& a) {
   return kExitOk;
 }
 
+int run_serve(const fairspline::web::ServerOptions& options) {
+  fairspline::web::Server server(options);
+  const int port = server.bind();
+  if (port < 0) {
+    throw UsageError{Error(ErrorCode::kIoError, "cannot listen on " + options.host + ":" +
+                                                    std::to_string(options.port) +
+                                                    " (in use, or not a local address?)")};
+  }
+  // The first line is machine-readable: tests and scripts read the port from it.
+  std::cout << "fairspline: serving http://" << options.host << ":" << port << "/" << std::endl;
+  return server.run() ? kExitOk : kExitFitError;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"fairspline: fair planar cubic Bézier splines through points.", "fairspline"};
   app.set_version_flag("--version", "fairspline 0.1.0");
@@ -394,6 +408,17 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(1, 1'000'000));
   bench->add_option("--seed", ba.seed, "Seed of the random walk (default: 1)");
 
+  fairspline::web::ServerOptions sa;
+  sa.root = FAIRSPLINE_WEB_ROOT;
+  CLI::App* serve = app.add_subcommand(
+      "serve", "Serve the JSON API (GET /api/methods, POST /api/fit) and the editor page.");
+  serve->add_option("--host", sa.host, "Address to bind (default: 127.0.0.1, loopback only)");
+  serve->add_option("--port", sa.port, "Port (default: 8080; 0 picks a free one)")
+      ->check(CLI::Range(0, 65535));
+  serve->add_option("--root", sa.root, "Directory of the page and its assets");
+  serve->add_option("--max-points", sa.max_points, "Largest fit accepted (default: 200000)")
+      ->check(CLI::Range(std::size_t{2}, std::size_t{100'000'000}));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -405,6 +430,7 @@ int run(int argc, char** argv) {
     if (*fit) return run_fit(fa);
     if (*methods) return run_methods(methods_json);
     if (*bench) return run_bench(ba);
+    if (*serve) return run_serve(sa);
   } catch (const UsageError& u) {
     print_error(u.error);
     return kExitUsage;
