@@ -59,6 +59,33 @@ try {
   const before = await curve.first().getAttribute('d');
   check(before && before.includes('C'), 'the quasi-elastic curve is drawn with cubic Béziers');
 
+  // Undo / redo of the last added point (button and keyboard).
+  const pointCount = () => page.locator('[data-testid^="point-"]').count();
+  await page.click('[data-testid="undo"]');
+  check(await pointCount() === 4, 'undo removes the last added point');
+  await page.click('[data-testid="redo"]');
+  check(await pointCount() === 5, 'redo restores it');
+  await page.keyboard.press('Control+z');
+  check(await pointCount() === 4, 'Ctrl+Z undoes');
+  await page.keyboard.press('Control+Shift+z');
+  check(await pointCount() === 5, 'Ctrl+Shift+Z redoes');
+  await page.waitForFunction(
+    (d) => document.querySelector('[data-testid="curve-quasi-elastic"]')?.getAttribute('d') === d, before);
+
+  // Control polygon.
+  await page.check('[data-testid="control-polygon"]');
+  const polys = await page.locator('[data-testid="control-lines"] polyline').count();
+  check(polys === 4, `the control polygon has one polyline per segment (${polys})`);
+
+  // Export CSV: header plus one row of 8 numbers per segment.
+  await page.click('[data-testid="export-csv"]');
+  const csv = (await page.$eval('[data-testid="export-csv-text"]', (t) => t.value)).trim().split('\n');
+  const segs = (before.match(/C/g) ?? []).length;
+  check(csv[0] === 'x0,y0,x1,y1,x2,y2,x3,y3', 'the CSV export has a header line');
+  check(csv.length === segs + 1, `the CSV export has one row per segment (${csv.length - 1}/${segs})`);
+  check(csv.slice(1).every((row) => { const v = row.split(','); return v.length === 8 && v.every((x) => Number.isFinite(Number(x)) && x.trim() !== ''); }),
+        'each CSV row holds 8 numbers');
+
   // Drag point 2; the curve follows.
   const p2 = await page.locator('[data-testid="point-2"]').boundingBox();
   await page.mouse.move(p2.x + p2.width / 2, p2.y + p2.height / 2);
@@ -115,6 +142,41 @@ try {
   const flagged = await page.locator('[data-testid^="point-"].error').count();
   check(flagged >= 1, 'the offending point is highlighted');
   await page.screenshot({ path: `${out}/editor-error.png` });
+
+  // Import: a malformed text shows an error, a small CSV replaces the points (undoable).
+  await page.fill('[data-testid="import-text"]', 'x,y\n1,2\nfoo bar\n');
+  await page.click('[data-testid="import"]');
+  const importMsg = await page.locator('[data-testid="error"]').innerText();
+  check(/import/i.test(importMsg), `a malformed import shows an error (${importMsg.slice(0, 60)})`);
+  check(await pointCount() === 5, 'a malformed import keeps the points');
+  await page.selectOption('[data-testid="method"]', 'quasi-elastic');
+  await page.fill('[data-testid="import-text"]', '# four points\nx,y\n100,100\n300,400\n600,200\n900,500\n');
+  await page.click('[data-testid="import"]');
+  check(await pointCount() === 4, 'importing a 4-point CSV gives 4 points');
+  await page.waitForFunction(() => (document.querySelector('[data-testid="curve-quasi-elastic"]')?.getAttribute('d')?.match(/C/g) ?? []).length === 3);
+  check(true, 'the imported points are fitted');
+  await page.fill('[data-testid="import-text"]', '{"points": [[0,0],[200,300],[500,100]], "closed": true}');
+  await page.click('[data-testid="import"]');
+  check(await pointCount() === 3 && await page.isChecked('[data-testid="closed"]'), 'a JSON import sets points and closed');
+  await page.click('[data-testid="undo"]');
+  check(await pointCount() === 4 && !(await page.isChecked('[data-testid="closed"]')), 'an import is undoable');
+  await page.screenshot({ path: `${out}/editor-import.png` });
+
+  // Alt-click on the curve inserts a point between two existing ones.
+  await page.waitForFunction(() => (document.querySelector('[data-testid="curve-quasi-elastic"]')?.getAttribute('d')?.match(/C/g) ?? []).length === 3);
+  const spot = await page.$eval('[data-testid="curve-quasi-elastic"]', (path) => {
+    const len = path.getTotalLength();
+    const q = path.getPointAtLength(len / 2).matrixTransform(path.getScreenCTM());
+    return [q.x, q.y];
+  });
+  await page.keyboard.down('Alt');
+  await page.mouse.click(spot[0], spot[1]);
+  await page.keyboard.up('Alt');
+  check(await pointCount() === 5, 'alt-click on the curve inserts a point');
+  const order = await page.$$eval('[data-testid^="point-"]', (cs) => cs.map((c) => Number(c.getAttribute('cx'))));
+  check(order[0] === 100 && order[4] === 900 && order[2] > 300 && order[2] < 600, `the point is inserted in the middle (${order.map(Math.round)})`);
+  await page.keyboard.press('Control+z');
+  check(await pointCount() === 4, 'the insertion is undoable');
 
   check(errors.length === 0, `no JavaScript errors (${errors.join('; ')})`);
 } finally {

@@ -18,6 +18,8 @@ const el = {
   table: $('ensemble-table').tBodies[0], layerMain: $('layer-main'),
   layerEnsemble: $('layer-ensemble'), layerComb: $('layer-comb'), layerPoints: $('layer-points'),
   svgText: $('export-svg-text'), jsonText: $('export-json-text'),
+  csvText: $('export-csv-text'), importText: $('import-text'), polygon: $('control-polygon'),
+  layerControl: $('layer-control'), undo: $('undo'), redo: $('redo'),
 };
 
 const state = {
@@ -27,6 +29,7 @@ const state = {
   options: {},         // user-set options of the current method (defaults are left out)
   ensemble: new Set(), // method names fitted alongside with their default options
   comb: false,
+  polygon: false,      // draw the Bézier control polygons of the main curve
   selected: -1,
 };
 
@@ -34,6 +37,53 @@ let schema = { default: null, methods: [] };
 let mainFit = null;            // last successful answer for the main method
 let mainError = null;          // {code, message, index} of the last failed main fit
 const ensembleFits = new Map(); // name → {fit} or {error}
+let importError = null;        // message of the last failed import, shown until the next edit
+
+// ---------- undo / redo over point edits ----------
+
+const HISTORY_LIMIT = 200;
+const undoStack = [];
+const redoStack = [];
+
+const snapshot = () => ({ points: state.points.map(([x, y]) => [x, y]), closed: state.closed });
+
+/** Records the state before an edit; call it once per user action (one drag = one step). */
+function pushHistory() {
+  undoStack.push(snapshot());
+  if (undoStack.length > HISTORY_LIMIT) undoStack.shift();
+  redoStack.length = 0;
+  importError = null;
+  updateHistoryButtons();
+}
+
+function restore(snap) {
+  state.points = snap.points.map(([x, y]) => [x, y]);
+  state.closed = snap.closed;
+  el.closed.checked = state.closed;
+  state.selected = -1;
+  drag = null;
+  importError = null;
+  if (mainError?.index != null) mainError = { ...mainError, index: null };
+  updateHistoryButtons();
+  changed();
+}
+
+function undo() {
+  if (!undoStack.length) return;
+  redoStack.push(snapshot());
+  restore(undoStack.pop());
+}
+
+function redo() {
+  if (!redoStack.length) return;
+  undoStack.push(snapshot());
+  restore(redoStack.pop());
+}
+
+function updateHistoryButtons() {
+  el.undo.disabled = undoStack.length === 0;
+  el.redo.disabled = redoStack.length === 0;
+}
 
 // ---------- small helpers ----------
 
@@ -69,6 +119,7 @@ function saveHash() {
     o: state.options,
     e: [...state.ensemble],
     k: state.comb ? 1 : 0,
+    g: state.polygon ? 1 : 0,
   };
   history.replaceState(null, '', `#${encodeURIComponent(JSON.stringify(data))}`);
 }
@@ -83,6 +134,7 @@ function loadHash() {
     if (data.o && typeof data.o === 'object') state.options = data.o;
     if (Array.isArray(data.e)) state.ensemble = new Set(data.e);
     state.comb = !!data.k;
+    state.polygon = !!data.g;
   } catch {
     // A malformed hash: start from scratch.
   }
@@ -338,6 +390,16 @@ function renderComb() {
   if (tips.length) el.layerComb.append(svg('polyline', { points: tips.map((p) => p.join(',')).join(' ') }));
 }
 
+/** The control polygon p0–p1–p2–p3 of every segment of the main curve. */
+function renderControlPolygon() {
+  el.layerControl.replaceChildren();
+  if (!state.polygon || !mainFit) return;
+  for (const { bezier } of mainFit.segments) {
+    el.layerControl.append(svg('polyline', { points: bezier.map((p) => p.join(',')).join(' ') }));
+    for (const [x, y] of [bezier[1], bezier[2]]) el.layerControl.append(svg('circle', { cx: x, cy: y, r: 3 }));
+  }
+}
+
 function renderTable() {
   el.table.replaceChildren();
   const rows = [];
@@ -384,14 +446,20 @@ function render() {
     el.layerEnsemble.append(svg('path', { d: pathData(result.fit.segments), stroke: color, 'data-testid': `curve-${name}` }));
     addLegend(name, color);
   }
-  el.error.textContent = mainError ? `${mainError.code}: ${mainError.message}` : '';
+  renderError();
   const r = mainFit?.report;
   el.report.textContent = r
     ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°`
     : '';
   renderPoints();
   renderComb();
+  renderControlPolygon();
   renderTable();
+}
+
+function renderError() {
+  el.error.textContent = importError ? `import: ${importError}`
+    : (mainError ? `${mainError.code}: ${mainError.message}` : '');
 }
 
 function addLegend(text, color) {
@@ -434,6 +502,7 @@ el.canvas.addEventListener('pointerdown', (evt) => {
 
 window.addEventListener('pointermove', (evt) => {
   if (!drag) return;
+  if (!drag.moved) pushHistory(); // one undo step per drag
   drag.moved = true;
   state.points[drag.index] = toWorld(evt);
   changed();
@@ -450,13 +519,43 @@ window.addEventListener('pointerup', () => {
 el.canvas.addEventListener('click', (evt) => {
   if (suppressClick || evt.target.dataset?.index !== undefined) return;
   if (evt.button !== 0 || evt.shiftKey) return;
+  if (evt.altKey) { insertOnCurve(toWorld(evt)); return; }
+  pushHistory();
   state.points.push(toWorld(evt));
   state.selected = state.points.length - 1;
   changed();
 });
 
+/** Alt-click: inserts a point after the start point of the main-curve segment nearest to q. */
+function insertOnCurve(q) {
+  if (!mainFit?.segments?.length) return;
+  let best = { d: Infinity, seg: -1 };
+  mainFit.segments.forEach(({ bezier: [p0, p1, p2, p3] }, i) => {
+    for (let j = 0; j <= 32; j++) {
+      const t = j / 32, s = 1 - t;
+      const x = s * s * s * p0[0] + 3 * s * s * t * p1[0] + 3 * s * t * t * p2[0] + t * t * t * p3[0];
+      const y = s * s * s * p0[1] + 3 * s * s * t * p1[1] + 3 * s * t * t * p2[1] + t * t * t * p3[1];
+      const d = Math.hypot(x - q[0], y - q[1]);
+      if (d < best.d) best = { d, seg: i };
+    }
+  });
+  // Segment i runs from point i to point i+1 (the last one closes the loop when closed).
+  const at = Math.min(best.seg + 1, state.points.length);
+  pushHistory();
+  state.points.splice(at, 0, q);
+  state.selected = at;
+  if (mainError?.index != null) mainError = { ...mainError, index: null };
+  changed();
+}
+
 window.addEventListener('keydown', (evt) => {
   if (evt.target instanceof HTMLInputElement || evt.target instanceof HTMLSelectElement || evt.target instanceof HTMLTextAreaElement) return;
+  const key = evt.key.toLowerCase();
+  if ((evt.ctrlKey || evt.metaKey) && (key === 'z' || key === 'y')) {
+    evt.preventDefault();
+    if (key === 'y' || evt.shiftKey) redo(); else undo();
+    return;
+  }
   if ((evt.key === 'Delete' || evt.key === 'Backspace') && state.selected >= 0) {
     evt.preventDefault();
     removePoint(state.selected);
@@ -467,6 +566,7 @@ window.addEventListener('keydown', (evt) => {
 });
 
 function removePoint(i) {
+  pushHistory();
   state.points.splice(i, 1);
   state.selected = -1;
   if (mainError?.index != null) mainError = { ...mainError, index: null };
@@ -532,7 +632,86 @@ $('export-json').addEventListener('click', () => {
   download(`fairspline-${state.method ?? 'curve'}.json`, text, 'application/json');
 });
 
+/** One row of the 8 control coordinates per segment of the main curve, with a header line. */
+function exportCsvText() {
+  const lines = ['x0,y0,x1,y1,x2,y2,x3,y3'];
+  for (const { bezier } of mainFit?.segments ?? []) lines.push(bezier.flat().join(','));
+  return `${lines.join('\n')}\n`;
+}
+
+$('export-csv').addEventListener('click', () => {
+  const text = exportCsvText();
+  el.csvText.value = text;
+  download(`fairspline-${state.method ?? 'curve'}.csv`, text, 'text/csv');
+});
+
+// ---------- import ----------
+
+/** Parses CSV (x,y per line, optional header, # comments) or JSON ({points, closed} or an array). */
+function parsePoints(text) {
+  const trimmed = text.trim();
+  if (!trimmed) throw new Error('nothing to import');
+  const toPoints = (list) => {
+    if (!Array.isArray(list)) throw new Error('"points" must be an array');
+    return list.map((p, i) => {
+      const xy = Array.isArray(p) ? p : (p && typeof p === 'object' ? [p.x, p.y] : null);
+      if (!xy || xy.length < 2 || !xy.slice(0, 2).every((v) => typeof v === 'number' && Number.isFinite(v))) {
+        throw new Error(`point ${i} is not a pair of finite numbers`);
+      }
+      return [xy[0], xy[1]];
+    });
+  };
+  if (trimmed.startsWith('{') || trimmed.startsWith('[')) {
+    let data;
+    try { data = JSON.parse(trimmed); } catch (e) { throw new Error(`invalid JSON: ${e.message}`); }
+    if (Array.isArray(data)) return { points: toPoints(data), closed: null };
+    if (!data || typeof data !== 'object') throw new Error('JSON must be an object or an array');
+    return { points: toPoints(data.points), closed: data.closed == null ? null : !!data.closed };
+  }
+  const points = [];
+  const lines = trimmed.split(/\r?\n/);
+  lines.forEach((raw, n) => {
+    const line = raw.replace(/#.*$/, '').trim();
+    if (!line) return;
+    const cells = line.split(/\s*[,;\t ]\s*/).filter((c) => c !== '');
+    const nums = cells.map(Number);
+    if (cells.length >= 2 && Number.isFinite(nums[0]) && Number.isFinite(nums[1])) {
+      points.push([nums[0], nums[1]]);
+    } else if (points.length === 0 && /^[a-z_]/i.test(cells[0] ?? '')) {
+      // A header line before the first point.
+    } else {
+      throw new Error(`line ${n + 1}: expected "x,y", got "${raw.trim().slice(0, 40)}"`);
+    }
+  });
+  if (!points.length) throw new Error('no points found');
+  return { points, closed: null };
+}
+
+$('import').addEventListener('click', () => {
+  let parsed;
+  try {
+    parsed = parsePoints(el.importText.value);
+  } catch (e) {
+    importError = e.message;
+    renderError();
+    return;
+  }
+  pushHistory();
+  state.points = parsed.points;
+  if (parsed.closed != null) { state.closed = parsed.closed; el.closed.checked = state.closed; }
+  state.selected = -1;
+  mainFit = null;
+  mainError = null;
+  ensembleFits.clear();
+  render();
+  changed();
+});
+
+el.undo.addEventListener('click', undo);
+el.redo.addEventListener('click', redo);
+
 $('clear').addEventListener('click', () => {
+  if (state.points.length) pushHistory();
   state.points = [];
   state.selected = -1;
   mainFit = null;
@@ -551,13 +730,23 @@ el.method.addEventListener('change', () => {
   buildOptionsForm();
   changed();
 });
-el.closed.addEventListener('change', () => { state.closed = el.closed.checked; changed(); });
+el.closed.addEventListener('change', () => {
+  // The box shows the new value already: record the state before it.
+  undoStack.push({ ...snapshot(), closed: !el.closed.checked });
+  redoStack.length = 0;
+  updateHistoryButtons();
+  state.closed = el.closed.checked;
+  changed();
+});
+el.polygon.addEventListener('change', () => { state.polygon = el.polygon.checked; renderControlPolygon(); saveHash(); });
 el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderComb(); saveHash(); });
 
 async function start() {
   loadHash();
   el.closed.checked = state.closed;
   el.comb.checked = state.comb;
+  el.polygon.checked = state.polygon;
+  updateHistoryButtons();
   try {
     const res = await fetch('/api/methods');
     schema = await res.json();
