@@ -56,6 +56,9 @@ try {
   await page.waitForSelector('[data-testid="point-4"]');
   const curve = page.locator('[data-testid="curve-quasi-elastic"]');
   await curve.first().waitFor();
+  // Wait for the fit of all five points (four cubics): an earlier fit may still be on screen.
+  await page.waitForFunction(() => (document.querySelector('[data-testid="curve-quasi-elastic"]')
+    ?.getAttribute('d')?.match(/C/g) ?? []).length === 4);
   const before = await curve.first().getAttribute('d');
   check(before && before.includes('C'), 'the quasi-elastic curve is drawn with cubic Béziers');
 
