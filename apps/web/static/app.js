@@ -697,28 +697,27 @@ $('import').addEventListener('click', () => {
     return;
   }
   pushHistory();
-  state.points = parsed.points;
   if (parsed.closed != null) { state.closed = parsed.closed; el.closed.checked = state.closed; }
-  state.selected = -1;
-  mainFit = null;
-  mainError = null;
-  ensembleFits.clear();
-  render();
-  changed();
+  replacePoints(parsed.points);
 });
 
 el.undo.addEventListener('click', undo);
 el.redo.addEventListener('click', redo);
 
-$('clear').addEventListener('click', () => {
-  if (state.points.length) pushHistory();
-  state.points = [];
+/** Replaces all points and forgets every fit of the old ones. */
+function replacePoints(points) {
+  state.points = points;
   state.selected = -1;
   mainFit = null;
   mainError = null;
   ensembleFits.clear();
   render();
   changed();
+}
+
+$('clear').addEventListener('click', () => {
+  if (state.points.length) pushHistory();
+  replacePoints([]);
 });
 
 // ---------- controls and start-up ----------
