@@ -1,6 +1,7 @@
 // Umbrella header: everything public in fairspline.
 #pragma once
 
+#include "fairspline/batch.hpp"
 #include "fairspline/cubic_bezier.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/energy.hpp"

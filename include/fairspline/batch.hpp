@@ -1,0 +1,58 @@
+// Fitting many independent curves in parallel: the engine behind `fairspline batch` and the
+// Python module's fit_many. One curve never depends on another, so the work is split by curve
+// over a small pool of threads; results come back in input order.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fairspline/error.hpp"
+#include "fairspline/fit.hpp"
+
+namespace fairspline {
+
+/// One curve of a batch: what to fit and with which method and options.
+struct BatchJob {
+  FitInput input;
+  std::string method;  ///< empty: the default method
+  nlohmann::json options = nlohmann::json::object();
+};
+
+/// The outcome of one job: exactly one of `result` and `error` is set.
+struct BatchOutcome {
+  std::optional<FitResult> result;
+  std::optional<Error> error;
+};
+
+/// How a batch runs.
+struct BatchOptions {
+  unsigned threads = 0;  ///< worker threads; 0: std::thread::hardware_concurrency()
+  ReportLevel level = ReportLevel::kFull;
+  /// Called with (done, total) as jobs finish (after each small chunk of jobs, and once with
+  /// done == total), never concurrently with itself; may be empty. Runs on a worker thread:
+  /// keep it short.
+  std::function<void(std::size_t done, std::size_t total)> progress;
+};
+
+/// The number of threads `requested` resolves to (0: hardware concurrency, at least 1), never
+/// more than `work_items` (and at least 1).
+unsigned resolve_threads(unsigned requested, std::size_t work_items);
+
+/// Runs work(i) for every i in [0, count) on `threads` threads (resolved as above), handing
+/// out indices in small chunks so that uneven items balance. work must not throw; if it does,
+/// the first exception is rethrown after all threads have stopped.
+void parallel_for(std::size_t count, unsigned threads,
+                  const std::function<void(std::size_t)>& work);
+
+/// Fits every job (fit() with the job's method, options and options.level). A job that fails
+/// with fairspline::Error gets it in its outcome; the others are unaffected.
+std::vector<BatchOutcome> fit_many(std::span<const BatchJob> jobs,
+                                   const BatchOptions& options = {});
+
+}  // namespace fairspline

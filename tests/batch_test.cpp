@@ -1,0 +1,89 @@
+#include "fairspline/batch.hpp"
+
+#include <atomic>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "fairspline/registry.hpp"
+#include "test_util.hpp"
+
+namespace fairspline {
+namespace {
+
+TEST(Batch, ResolveThreads) {
+  EXPECT_EQ(resolve_threads(3, 100), 3u);
+  EXPECT_EQ(resolve_threads(8, 2), 2u);
+  EXPECT_EQ(resolve_threads(4, 0), 1u);
+  EXPECT_GE(resolve_threads(0, 1000), 1u);
+}
+
+TEST(Batch, ParallelForVisitsEveryIndexOnce) {
+  for (unsigned threads : {1u, 2u, 5u}) {
+    std::vector<std::atomic<int>> seen(10007);
+    parallel_for(seen.size(), threads, [&](std::size_t i) { seen[i].fetch_add(1); });
+    for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << i;
+  }
+}
+
+TEST(Batch, ParallelForRethrowsTheFirstFailure) {
+  EXPECT_THROW(parallel_for(1000, 2,
+                            [](std::size_t i) {
+                              if (i == 500) throw std::runtime_error("boom");
+                            }),
+               std::runtime_error);
+}
+
+TEST(Batch, FitManyEqualsFitOneByOneInInputOrder) {
+  std::vector<BatchJob> jobs;
+  for (std::uint64_t seed = 0; seed < 60; ++seed) {
+    BatchJob job;
+    job.input.points = testing::random_walk(5 + seed % 7, seed, 60);
+    job.method = seed % 3 == 0 ? "jaklic-zagar" : (seed % 3 == 1 ? "" : "li-strain");
+    jobs.push_back(job);
+  }
+  // One bad job in the middle: a NaN coordinate.
+  jobs[17].input.points[2].x = std::numeric_limits<double>::quiet_NaN();
+  std::size_t last_done = 0, calls = 0;
+  BatchOptions options;
+  options.threads = 2;
+  options.level = ReportLevel::kBasic;
+  options.progress = [&](std::size_t done, std::size_t total) {
+    EXPECT_GT(done, last_done);
+    EXPECT_EQ(total, jobs.size());
+    last_done = done;
+    ++calls;
+  };
+  const std::vector<BatchOutcome> out = fit_many(jobs, options);
+  ASSERT_EQ(out.size(), jobs.size());
+  EXPECT_EQ(last_done, jobs.size());
+  EXPECT_GE(calls, 1u);
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    if (i == 17) {
+      ASSERT_TRUE(out[i].error);
+      EXPECT_FALSE(out[i].result);
+      EXPECT_EQ(out[i].error->code(), ErrorCode::kNonFinite);
+      EXPECT_EQ(out[i].error->index(), 2u);
+      continue;
+    }
+    ASSERT_TRUE(out[i].result) << i;
+    const std::string method =
+        jobs[i].method.empty() ? std::string(default_method_name()) : jobs[i].method;
+    const FitResult one = fit(method, jobs[i].input, jobs[i].options, ReportLevel::kBasic);
+    EXPECT_EQ(out[i].result->method, one.method);
+    ASSERT_EQ(out[i].result->spline.segments.size(), one.spline.segments.size());
+    for (std::size_t s = 0; s < one.spline.segments.size(); ++s) {
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_EQ(out[i].result->spline.segments[s].bezier.p[k].x,
+                  one.spline.segments[s].bezier.p[k].x);
+        EXPECT_EQ(out[i].result->spline.segments[s].bezier.p[k].y,
+                  one.spline.segments[s].bezier.p[k].y);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fairspline
