@@ -1,5 +1,7 @@
 #include "server.hpp"
 
+#include <chrono>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <string>
@@ -19,15 +21,7 @@ ApiResponse error_response(int status, const Error& e) {
   return {status, io::error_to_json(e).dump()};
 }
 
-}  // namespace
-
-ApiResponse handle_methods() {
-  nlohmann::json all = nlohmann::json::array();
-  for (const MethodInfo& m : methods()) all.push_back(method_schema(m));
-  return {200, nlohmann::json{{"default", default_method_name()}, {"methods", all}}.dump()};
-}
-
-ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {
+ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& options) {
   try {
     // The same parser as `fairspline fit` (line/column of a syntax error, 1e999 named, typos
     // in field names refused).
@@ -52,6 +46,22 @@ ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {
   }
 }
 
+}  // namespace
+
+ApiResponse handle_methods() {
+  nlohmann::json all = nlohmann::json::array();
+  for (const MethodInfo& m : methods()) all.push_back(method_schema(m));
+  return {200, nlohmann::json{{"default", default_method_name()}, {"methods", all}}.dump()};
+}
+
+ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  ApiResponse response = handle_fit_untimed(body, options);
+  response.elapsed_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return response;
+}
+
 struct Server::Impl {
   ServerOptions options;
   httplib::Server http;
@@ -70,6 +80,9 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
   http.Post("/api/fit", [&opt](const httplib::Request& req, httplib::Response& res) {
     const ApiResponse r = handle_fit(req.body, opt);
     res.status = r.status;
+    char timing[48];
+    std::snprintf(timing, sizeof timing, "fit;dur=%.3f", r.elapsed_ms);
+    res.set_header("Server-Timing", timing);
     res.set_content(r.body, "application/json");
   });
   http.set_exception_handler(

@@ -22,6 +22,9 @@ struct ServerOptions {
 struct ApiResponse {
   int status = 200;
   std::string body;
+  /// Wall time of parsing, fitting and serializing, in milliseconds (sent to the page as
+  /// `Server-Timing: fit;dur=...`); 0 when not measured.
+  double elapsed_ms = 0.0;
 };
 
 /// GET /api/methods: {"default": name, "methods": [method_schema...]}.

@@ -111,6 +111,12 @@ TEST(WebApi, HttpRoundTripOnAFreeLoopbackPort) {
   ASSERT_TRUE(ok);
   EXPECT_EQ(ok->status, 200);
   EXPECT_EQ(json::parse(ok->body).at("segments").size(), 2u);
+  // The page shows the server's fit time from the Server-Timing header.
+  const std::string timing = ok->get_header_value("Server-Timing");
+  ASSERT_EQ(timing.rfind("fit;dur=", 0), 0u) << timing;
+  const double ms = std::stod(timing.substr(8));
+  EXPECT_GE(ms, 0.0);
+  EXPECT_LT(ms, 60000.0);
   auto bad = client.Post("/api/fit", "{", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);

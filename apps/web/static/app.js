@@ -1,43 +1,77 @@
 // fairspline editor: points on an SVG canvas, live fits through POST /api/fit, an ensemble of
-// methods side by side, a curvature comb, exports, and the state kept in the URL hash.
-// World coordinates are the 1000×700 frame of the canvas with the y axis up.
+// methods side by side, node kinds, a curvature comb and plot, zoom and pan, imports and
+// exports, and the whole state kept in the URL hash.
+// World coordinates have the y axis up; the initial view is the 1000×700 frame.
+
+import { nearestSegment, pathData, sampleCurve } from './bezier.js';
+import { parseImport } from './parse.js';
+import { renderCurvaturePlot } from './plot.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
-const FRAME_H = 700;
+const FRAME_W = 1000, FRAME_H = 700, ASPECT = FRAME_H / FRAME_W;
 const FIT_DELAY_MS = 30;
 const COMB_SAMPLES = 16;   // per segment
-const COMB_MAX_LEN = 60;   // world units of the longest tooth
+const PLOT_SAMPLES = 24;   // per segment
+const COMB_MAX_PX = 60;    // longest comb tooth, in pixels of the default view
+const POINT_R_PX = 7;
+const ARROW_PX = 80;       // length of a new clamped tangent arrow
+const DRAG_SLOP_PX = 4;    // a press on the background that moves less is a click
+const KINDS = ['smooth', 'clamped', 'corner'];
 const PALETTE = ['#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2',
   '#bcbd22', '#1f77b4', '#7f7f7f'];
 
 const $ = (id) => document.getElementById(id);
 const el = {
   canvas: $('canvas'), world: $('world'), method: $('method'), methodDesc: $('method-desc'),
-  options: $('options'), closed: $('closed'), comb: $('comb'), ensemble: $('ensemble'),
-  error: $('error'), report: $('report'), legend: $('legend'),
-  table: $('ensemble-table').tBodies[0], layerMain: $('layer-main'),
-  layerEnsemble: $('layer-ensemble'), layerComb: $('layer-comb'), layerPoints: $('layer-points'),
-  svgText: $('export-svg-text'), jsonText: $('export-json-text'),
-  csvText: $('export-csv-text'), importText: $('import-text'), polygon: $('control-polygon'),
-  layerControl: $('layer-control'), undo: $('undo'), redo: $('redo'),
+  options: $('options'), closed: $('closed'), comb: $('comb'), plotToggle: $('plot-toggle'),
+  ensemble: $('ensemble'), error: $('error-box'), errorText: $('error'), errorShow: $('error-show'),
+  report: $('report'), legend: $('legend'), table: $('ensemble-table').tBodies[0],
+  layerMain: $('layer-main'), layerEnsemble: $('layer-ensemble'), layerComb: $('layer-comb'),
+  layerPoints: $('layer-points'), layerKinds: $('layer-kinds'), layerError: $('layer-error'),
+  layerControl: $('layer-control'), polygon: $('control-polygon'), plot: $('plot'),
+  svgText: $('export-svg-text'), jsonText: $('export-json-text'), csvText: $('export-csv-text'),
+  importText: $('import-text'), importFile: $('import-file'), undo: $('undo'), redo: $('redo'),
+  alpha: $('alpha'), alphaNumber: $('alpha-number'), kindBox: $('kind'), kindLabel: $('kind-label'),
+  zoomLabel: $('zoom-label'),
 };
 
 const state = {
   points: [],          // [[x, y], ...] in world coordinates
+  kinds: [],           // 'smooth' | 'clamped' | 'corner', one per point
+  tangents: [],        // [dx, dy] for clamped points, null otherwise
   closed: false,
+  alpha: 0.5,          // knot parameterization exponent (sent as "alpha")
   method: null,
   options: {},         // user-set options of the current method (defaults are left out)
   ensemble: new Set(), // method names fitted alongside with their default options
   comb: false,
   polygon: false,      // draw the Bézier control polygons of the main curve
+  plot: true,          // the curvature plot under the canvas
+  view: { x: 0, y: 0, w: FRAME_W }, // the SVG viewBox (user units; height = w · ASPECT)
   selected: -1,
 };
 
 let schema = { default: null, methods: [] };
 let mainFit = null;            // last successful answer for the main method
 let mainError = null;          // {code, message, index} of the last failed main fit
+let mainTiming = null;         // {server, roundTrip} in ms of the last main fit
 const ensembleFits = new Map(); // name → {fit} or {error}
 let importError = null;        // message of the last failed import, shown until the next edit
+
+// ---------- small helpers ----------
+
+function svg(tag, attrs = {}) {
+  const node = document.createElementNS(SVG_NS, tag);
+  for (const [k, v] of Object.entries(attrs)) node.setAttribute(k, v);
+  return node;
+}
+
+const fmt = (v) => (typeof v === 'number' && Number.isFinite(v) ? Number(v.toPrecision(5)).toString() : String(v ?? '—'));
+const compact = (v) => Number(v.toPrecision(10));
+const methodInfo = (name) => schema.methods.find((m) => m.name === name);
+const colorOf = (name) => PALETTE[Math.max(0, schema.methods.findIndex((m) => m.name === name)) % PALETTE.length];
+/** World units per pixel of the default view: sizes that must look the same at any zoom. */
+const unit = () => state.view.w / FRAME_W;
 
 // ---------- undo / redo over point edits ----------
 
@@ -45,7 +79,12 @@ const HISTORY_LIMIT = 200;
 const undoStack = [];
 const redoStack = [];
 
-const snapshot = () => ({ points: state.points.map(([x, y]) => [x, y]), closed: state.closed });
+const snapshot = () => ({
+  points: state.points.map(([x, y]) => [x, y]),
+  kinds: [...state.kinds],
+  tangents: state.tangents.map((t) => (t ? [...t] : null)),
+  closed: state.closed,
+});
 
 /** Records the state before an edit; call it once per user action (one drag = one step). */
 function pushHistory() {
@@ -57,13 +96,15 @@ function pushHistory() {
 }
 
 function restore(snap) {
-  state.points = snap.points.map(([x, y]) => [x, y]);
+  state.points = snap.points;
+  state.kinds = snap.kinds;
+  state.tangents = snap.tangents;
   state.closed = snap.closed;
   el.closed.checked = state.closed;
   state.selected = -1;
   drag = null;
   importError = null;
-  if (mainError?.index != null) mainError = { ...mainError, index: null };
+  forgetErrorIndex();
   updateHistoryButtons();
   changed();
 }
@@ -85,42 +126,77 @@ function updateHistoryButtons() {
   el.redo.disabled = redoStack.length === 0;
 }
 
-// ---------- small helpers ----------
-
-function svg(tag, attrs = {}) {
-  const node = document.createElementNS(SVG_NS, tag);
-  for (const [k, v] of Object.entries(attrs)) node.setAttribute(k, v);
-  return node;
+/** After points move in the list, the old error index no longer names the right point. */
+function forgetErrorIndex() {
+  if (mainError?.index != null) mainError = { ...mainError, index: null };
 }
 
-const fmt = (v) => (typeof v === 'number' && Number.isFinite(v) ? Number(v.toPrecision(5)).toString() : String(v ?? '—'));
-const round2 = (v) => Math.round(v * 100) / 100;
-const methodInfo = (name) => schema.methods.find((m) => m.name === name);
-const colorOf = (name) => PALETTE[Math.max(0, schema.methods.findIndex((m) => m.name === name)) % PALETTE.length];
+// ---------- point list edits (points, kinds and tangents stay parallel) ----------
 
-function pathData(segments) {
-  let d = '';
-  let last = null;
-  for (const { bezier: [p0, p1, p2, p3] } of segments) {
-    if (!last || Math.hypot(last[0] - p0[0], last[1] - p0[1]) > 1e-9) d += `M${p0[0]} ${p0[1]}`;
-    d += `C${p1[0]} ${p1[1]} ${p2[0]} ${p2[1]} ${p3[0]} ${p3[1]}`;
-    last = p3;
+function insertPoint(at, p) {
+  pushHistory();
+  state.points.splice(at, 0, p);
+  state.kinds.splice(at, 0, 'smooth');
+  state.tangents.splice(at, 0, null);
+  state.selected = at;
+  forgetErrorIndex();
+  changed();
+}
+
+function removePoint(i) {
+  pushHistory();
+  state.points.splice(i, 1);
+  state.kinds.splice(i, 1);
+  state.tangents.splice(i, 1);
+  state.selected = -1;
+  forgetErrorIndex();
+  changed();
+}
+
+/** The unit tangent the last fit has at point i, or the chord direction there. */
+function currentDirection(i) {
+  const t = mainFit?.tangents?.[i];
+  if (t && mainFit.points.length === state.points.length && Math.hypot(...t) > 0) return t;
+  const n = state.points.length;
+  const a = state.points[Math.max(0, i - 1)], b = state.points[Math.min(n - 1, i + 1)];
+  const d = [b[0] - a[0], b[1] - a[1]];
+  const len = Math.hypot(...d);
+  return len > 0 ? [d[0] / len, d[1] / len] : [1, 0];
+}
+
+function setKind(i, kind) {
+  if (i < 0 || i >= state.points.length || state.kinds[i] === kind) return;
+  pushHistory();
+  state.kinds[i] = kind;
+  if (kind === 'clamped') {
+    const [dx, dy] = currentDirection(i);
+    state.tangents[i] = [dx * ARROW_PX * unit(), dy * ARROW_PX * unit()];
+  } else {
+    state.tangents[i] = null;
   }
-  return d;
+  forgetErrorIndex();
+  changed();
 }
 
 // ---------- URL hash ----------
 
 function saveHash() {
   const data = {
-    p: state.points.map(([x, y]) => [round2(x), round2(y)]),
+    p: state.points.map(([x, y]) => [compact(x), compact(y)]),
     c: state.closed ? 1 : 0,
+    a: state.alpha,
     m: state.method,
     o: state.options,
     e: [...state.ensemble],
     k: state.comb ? 1 : 0,
     g: state.polygon ? 1 : 0,
+    q: state.plot ? 1 : 0,
+    v: [compact(state.view.x), compact(state.view.y), compact(state.view.w)],
   };
+  if (state.kinds.some((k) => k !== 'smooth')) {
+    data.n = state.kinds.map((k) => KINDS.indexOf(k));
+    data.t = state.tangents.map((t) => (t ? t.map(compact) : 0));
+  }
   history.replaceState(null, '', `#${encodeURIComponent(JSON.stringify(data))}`);
 }
 
@@ -128,13 +204,32 @@ function loadHash() {
   if (location.hash.length < 2) return;
   try {
     const data = JSON.parse(decodeURIComponent(location.hash.slice(1)));
-    if (Array.isArray(data.p)) state.points = data.p.filter((p) => Array.isArray(p) && p.length === 2).map(([x, y]) => [+x, +y]);
+    if (Array.isArray(data.p)) {
+      state.points = data.p.filter((p) => Array.isArray(p) && p.length === 2).map(([x, y]) => [+x, +y]);
+    }
+    const n = state.points.length;
+    state.kinds = Array(n).fill('smooth');
+    state.tangents = Array(n).fill(null);
+    if (Array.isArray(data.n) && Array.isArray(data.t) && data.n.length === n && data.t.length === n) {
+      data.n.forEach((k, i) => {
+        const kind = KINDS[k] ?? 'smooth';
+        const t = data.t[i];
+        if (kind === 'clamped' && !(Array.isArray(t) && t.length === 2)) return;
+        state.kinds[i] = kind;
+        state.tangents[i] = kind === 'clamped' ? [+t[0], +t[1]] : null;
+      });
+    }
     state.closed = !!data.c;
+    if (typeof data.a === 'number' && Number.isFinite(data.a)) state.alpha = data.a;
     if (typeof data.m === 'string') state.method = data.m;
     if (data.o && typeof data.o === 'object') state.options = data.o;
     if (Array.isArray(data.e)) state.ensemble = new Set(data.e);
     state.comb = !!data.k;
     state.polygon = !!data.g;
+    state.plot = data.q == null ? true : !!data.q;
+    if (Array.isArray(data.v) && data.v.length === 3 && data.v.every(Number.isFinite) && data.v[2] > 0) {
+      state.view = { x: data.v[0], y: data.v[1], w: data.v[2] };
+    }
   } catch {
     // A malformed hash: start from scratch.
   }
@@ -148,30 +243,31 @@ function setOption(name, value) {
   changed();
 }
 
+function numberInput(opt, value, onValue) {
+  const input = document.createElement('input');
+  input.type = 'number';
+  input.step = opt.type === 'integer' ? '1' : 'any';
+  if (opt.min != null) input.min = opt.min;
+  if (opt.max != null) input.max = opt.max;
+  if (value != null) input.value = value;
+  input.addEventListener('input', () => {
+    if (input.value.trim() === '') return onValue(undefined);
+    const v = Number(input.value);
+    input.classList.toggle('invalid', !Number.isFinite(v));
+    if (Number.isFinite(v)) onValue(opt.type === 'integer' ? Math.round(v) : v);
+  });
+  return input;
+}
+
 function optionControl(opt) {
   const current = state.options[opt.name];
   const id = `option-${opt.name}`;
-  const numberInput = (value, onValue) => {
-    const input = document.createElement('input');
-    input.type = 'number';
-    input.step = opt.type === 'integer' ? '1' : 'any';
-    if (opt.min != null) input.min = opt.min;
-    if (opt.max != null) input.max = opt.max;
-    if (value != null) input.value = value;
-    input.addEventListener('input', () => {
-      if (input.value.trim() === '') return onValue(undefined);
-      const v = Number(input.value);
-      input.classList.toggle('invalid', !Number.isFinite(v));
-      if (Number.isFinite(v)) onValue(opt.type === 'integer' ? Math.round(v) : v);
-    });
-    return input;
-  };
-
   switch (opt.type) {
     case 'number':
     case 'integer': {
-      const input = numberInput(current ?? opt.default, (v) => setOption(opt.name, v));
+      const input = numberInput(opt, current ?? opt.default, (v) => setOption(opt.name, v));
       input.dataset.testid = id;
+      if (opt.default == null) input.placeholder = 'default';
       return input;
     }
     case 'boolean': {
@@ -199,7 +295,7 @@ function optionControl(opt) {
       for (const c of opt.choices ?? []) select.add(new Option(c, c));
       select.add(new Option('number', '#number'));
       select.dataset.testid = id;
-      const input = numberInput(typeof value === 'number' ? value : null, (v) => {
+      const input = numberInput(opt, typeof value === 'number' ? value : null, (v) => {
         if (select.value === '#number') setOption(opt.name, v);
       });
       input.dataset.testid = `${id}-number`;
@@ -231,11 +327,14 @@ function optionControl(opt) {
       return input;
     }
     default: {
+      // Free strings; those that name another method (e.g. tangents_from) offer the names.
       const input = document.createElement('input');
       input.type = 'text';
       input.value = current ?? opt.default ?? '';
+      input.setAttribute('list', 'method-names');
+      input.placeholder = '(none)';
       input.dataset.testid = id;
-      input.addEventListener('input', () => setOption(opt.name, input.value));
+      input.addEventListener('input', () => setOption(opt.name, input.value === '' ? undefined : input.value));
       return input;
     }
   }
@@ -278,20 +377,40 @@ function buildEnsemble() {
   }
 }
 
+/** The α select (named parameterizations + a number) mirrors state.alpha. */
+function syncAlphaControl() {
+  const named = [...el.alpha.options].find((o) => o.value !== '#number' && Number(o.value) === state.alpha);
+  el.alpha.value = named ? named.value : '#number';
+  el.alphaNumber.disabled = !!named;
+  el.alphaNumber.value = state.alpha;
+}
+
 // ---------- fitting ----------
 
-async function postFit(method, options) {
-  const body = { points: state.points, closed: state.closed, method };
+/** The request body of the current data for `method` (the JSON input of `fairspline fit`). */
+function requestBody(method, options) {
+  const body = { points: state.points, closed: state.closed, alpha: state.alpha, method };
+  if (state.kinds.some((k) => k !== 'smooth')) {
+    body.kinds = state.kinds;
+    body.tangents = state.tangents;
+  }
   if (options && Object.keys(options).length) body.options = options;
+  return body;
+}
+
+async function postFit(method, options) {
+  const started = performance.now();
   try {
     const res = await fetch('/api/fit', {
       method: 'POST',
       headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify(body),
+      body: JSON.stringify(requestBody(method, options)),
     });
     const data = await res.json().catch(() => null);
-    if (res.ok && data) return { fit: data };
-    return { error: data?.error ?? { code: `http_${res.status}`, message: `HTTP ${res.status}`, index: null } };
+    const timing = /dur=([0-9.]+)/.exec(res.headers.get('Server-Timing') ?? '');
+    const ms = { server: timing ? Number(timing[1]) : null, roundTrip: performance.now() - started };
+    if (res.ok && data) return { fit: data, ms };
+    return { ms, error: data?.error ?? { code: `http_${res.status}`, message: `HTTP ${res.status}`, index: null } };
   } catch (e) {
     return { error: { code: 'network', message: `cannot reach the server: ${e.message}`, index: null } };
   }
@@ -315,6 +434,7 @@ async function runFit() {
     if (state.points.length < 2 || !state.method) {
       mainFit = null;
       mainError = null;
+      mainTiming = null;
       ensembleFits.clear();
     } else {
       const names = [...state.ensemble].filter((n) => methodInfo(n));
@@ -324,6 +444,7 @@ async function runFit() {
       ]);
       mainFit = main.fit ?? null;
       mainError = main.error ?? null;
+      mainTiming = main.ms ?? null;
       ensembleFits.clear();
       names.forEach((n, i) => ensembleFits.set(n, others[i]));
     }
@@ -334,11 +455,89 @@ async function runFit() {
   }
 }
 
-/** Any change of the state: redraw the points now, save the hash, refit soon. */
+/** Any change of the data: redraw the points now, save the hash, refit soon. */
 function changed() {
   renderPoints();
+  renderSelection();
   saveHash();
   requestFit();
+}
+
+// ---------- view: zoom and pan ----------
+
+function applyView() {
+  const { x, y, w } = state.view;
+  el.canvas.setAttribute('viewBox', `${x} ${y} ${w} ${w * ASPECT}`);
+  el.zoomLabel.textContent = `${fmt(FRAME_W / w)}×`;
+  // Sizes fixed on screen follow the zoom.
+  renderPoints();
+  renderKinds();
+  renderComb();
+  renderControlPolygon();
+  renderErrorMarker();
+}
+
+function setView(view) {
+  if (!(view.w > 0) || !Number.isFinite(view.w) || !Number.isFinite(view.x) || !Number.isFinite(view.y)) return;
+  state.view = view;
+  applyView();
+  saveHash();
+}
+
+/** SVG user coordinates (before the world's y flip) of a client position. */
+function toUser(clientX, clientY) {
+  const p = el.canvas.createSVGPoint();
+  p.x = clientX;
+  p.y = clientY;
+  const q = p.matrixTransform(el.canvas.getScreenCTM().inverse());
+  return [q.x, q.y];
+}
+
+function toWorld(evt) {
+  const p = el.canvas.createSVGPoint();
+  p.x = evt.clientX;
+  p.y = evt.clientY;
+  const q = p.matrixTransform(el.world.getScreenCTM().inverse());
+  return [q.x, q.y];
+}
+
+/** Zooms by `factor` (> 1: in) keeping the user point [ux, uy] fixed on screen. */
+function zoomAbout(factor, [ux, uy]) {
+  const { x, y, w } = state.view;
+  const nw = Math.min(1e12, Math.max(1e-9, w / factor));
+  const f = w / nw;
+  setView({ x: ux - (ux - x) / f, y: uy - (uy - y) / f, w: nw });
+}
+
+function zoomCenter(factor) {
+  const { x, y, w } = state.view;
+  zoomAbout(factor, [x + w / 2, y + (w * ASPECT) / 2]);
+}
+
+/** Frames the points (and curves) with a margin; the default frame when there is nothing. */
+function fitView() {
+  const xs = [], ys = [];
+  for (const [x, y] of state.points) { xs.push(x); ys.push(y); }
+  for (const s of mainFit?.segments ?? []) for (const [x, y] of s.bezier) { xs.push(x); ys.push(y); }
+  if (!xs.length) return setView({ x: 0, y: 0, w: FRAME_W });
+  const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
+  const size = Math.max(x1 - x0, (y1 - y0) / ASPECT, 1e-6 * Math.max(1, Math.abs(x0), Math.abs(y0)));
+  const w = size * 1.15;
+  // World y is flipped: user y = FRAME_H − world y.
+  const cx = (x0 + x1) / 2, cy = FRAME_H - (y0 + y1) / 2;
+  setView({ x: cx - w / 2, y: cy - (w * ASPECT) / 2, w });
+}
+
+/** Pans so that world point p is in the middle of the view. */
+function centerOn([px, py]) {
+  const { w } = state.view;
+  setView({ x: px - w / 2, y: FRAME_H - py - (w * ASPECT) / 2, w });
+}
+
+function pointVisible([px, py]) {
+  const { x, y, w } = state.view;
+  const uy = FRAME_H - py;
+  return px >= x && px <= x + w && uy >= y && uy <= y + w * ASPECT;
 }
 
 // ---------- drawing ----------
@@ -349,37 +548,68 @@ function renderPoints() {
   while (layer.children.length > state.points.length) layer.lastChild.remove();
   while (layer.children.length < state.points.length) {
     const i = layer.children.length;
-    layer.append(svg('circle', { r: 7, 'data-testid': `point-${i}`, 'data-index': i }));
+    layer.append(svg('circle', { 'data-testid': `point-${i}`, 'data-index': i }));
   }
   const bad = mainError?.index;
+  const r = POINT_R_PX * unit();
   state.points.forEach(([x, y], i) => {
     const c = layer.children[i];
     c.setAttribute('cx', x);
     c.setAttribute('cy', y);
+    c.setAttribute('r', r);
+    c.dataset.kind = state.kinds[i];
     c.classList.toggle('selected', i === state.selected);
     c.classList.toggle('error', i === bad);
   });
+  renderKinds();
+}
+
+/** Corner squares and the tangent arrows of clamped points (the arrow tip is draggable). */
+function renderKinds() {
+  el.layerKinds.replaceChildren();
+  const u = unit();
+  state.points.forEach(([x, y], i) => {
+    if (state.kinds[i] === 'corner') {
+      const h = 1.9 * POINT_R_PX * u;
+      el.layerKinds.append(svg('rect', { x: x - h, y: y - h, width: 2 * h, height: 2 * h, class: 'corner', 'data-testid': `corner-${i}` }));
+    } else if (state.kinds[i] === 'clamped' && state.tangents[i]) {
+      const [dx, dy] = state.tangents[i];
+      const tip = [x + dx, y + dy];
+      const len = Math.hypot(dx, dy) || 1;
+      const [ux, uy] = [dx / len, dy / len];
+      const head = 10 * u;
+      const g = svg('g', { class: 'tangent', 'data-testid': `tangent-${i}` });
+      g.append(
+        svg('line', { x1: x, y1: y, x2: tip[0], y2: tip[1] }),
+        svg('polyline', {
+          points: [[tip[0] - head * (ux - 0.5 * uy), tip[1] - head * (uy + 0.5 * ux)], tip,
+            [tip[0] - head * (ux + 0.5 * uy), tip[1] - head * (uy - 0.5 * ux)]].map((p) => p.join(',')).join(' '),
+        }),
+        svg('circle', { cx: tip[0], cy: tip[1], r: 5 * u, class: 'handle', 'data-handle': i, 'data-testid': `handle-${i}` }),
+      );
+      el.layerKinds.append(g);
+    }
+  });
+}
+
+/** The kind control in the panel follows the selected point. */
+function renderSelection() {
+  const i = state.selected;
+  const ok = i >= 0 && i < state.points.length;
+  el.kindBox.querySelectorAll('input').forEach((r) => {
+    r.disabled = !ok;
+    r.checked = ok && r.value === state.kinds[i];
+  });
+  el.kindLabel.textContent = ok ? `point ${i}` : 'no point selected';
 }
 
 /** Curvature comb of the main curve: teeth along the normal, length ∝ signed curvature. */
 function renderComb() {
   el.layerComb.replaceChildren();
   if (!state.comb || !mainFit) return;
-  const samples = [];
-  for (const { bezier: [p0, p1, p2, p3] } of mainFit.segments) {
-    for (let j = 0; j <= COMB_SAMPLES; j++) {
-      const t = j / COMB_SAMPLES, s = 1 - t;
-      const pt = [0, 1].map((k) => s * s * s * p0[k] + 3 * s * s * t * p1[k] + 3 * s * t * t * p2[k] + t * t * t * p3[k]);
-      const d1 = [0, 1].map((k) => 3 * (s * s * (p1[k] - p0[k]) + 2 * s * t * (p2[k] - p1[k]) + t * t * (p3[k] - p2[k])));
-      const d2 = [0, 1].map((k) => 6 * (s * (p2[k] - 2 * p1[k] + p0[k]) + t * (p3[k] - 2 * p2[k] + p1[k])));
-      const speed = Math.hypot(d1[0], d1[1]);
-      if (speed < 1e-12) continue;
-      const kappa = (d1[0] * d2[1] - d1[1] * d2[0]) / speed ** 3;
-      samples.push({ pt, normal: [-d1[1] / speed, d1[0] / speed], kappa });
-    }
-  }
-  const kmax = Math.max(1e-12, ...samples.map((s) => Math.abs(s.kappa)));
-  const scale = COMB_MAX_LEN / kmax;
+  const samples = sampleCurve(mainFit.segments, COMB_SAMPLES).filter((s) => s.kappa != null);
+  const kmax = Math.max(1e-300, ...samples.map((s) => Math.abs(s.kappa)));
+  const scale = (COMB_MAX_PX * unit()) / kmax;
   const tips = [];
   for (const { pt, normal, kappa } of samples) {
     // Teeth point away from the centre of curvature.
@@ -396,8 +626,19 @@ function renderControlPolygon() {
   if (!state.polygon || !mainFit) return;
   for (const { bezier } of mainFit.segments) {
     el.layerControl.append(svg('polyline', { points: bezier.map((p) => p.join(',')).join(' ') }));
-    for (const [x, y] of [bezier[1], bezier[2]]) el.layerControl.append(svg('circle', { cx: x, cy: y, r: 3 }));
+    for (const [x, y] of [bezier[1], bezier[2]]) el.layerControl.append(svg('circle', { cx: x, cy: y, r: 3 * unit() }));
   }
+}
+
+function renderPlot() {
+  el.plot.hidden = !state.plot;
+  if (!state.plot) return;
+  const curves = [];
+  if (mainFit) curves.push({ name: state.method, color: 'var(--fg)', main: true, samples: sampleCurve(mainFit.segments, PLOT_SAMPLES) });
+  for (const [name, r] of ensembleFits) {
+    if (r.fit) curves.push({ name, color: colorOf(name), main: false, samples: sampleCurve(r.fit.segments, PLOT_SAMPLES) });
+  }
+  renderCurvaturePlot(el.plot, curves);
 }
 
 function renderTable() {
@@ -448,18 +689,55 @@ function render() {
   }
   renderError();
   const r = mainFit?.report;
+  const timing = mainTiming ? ` · fit ${mainTiming.server == null ? '?' : fmt(mainTiming.server)} ms (round trip ${fmt(mainTiming.roundTrip)} ms)` : '';
   el.report.textContent = r
-    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°`
+    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${timing}`
     : '';
   renderPoints();
   renderComb();
   renderControlPolygon();
+  renderPlot();
   renderTable();
 }
 
+/** The message in the box over the canvas; "show point" when the offending point is off view. */
 function renderError() {
-  el.error.textContent = importError ? `import: ${importError}`
-    : (mainError ? `${mainError.code}: ${mainError.message}` : '');
+  const text = importError ? `import: ${importError}`
+    : (mainError ? `${mainError.code}${mainError.index != null ? ` at point ${mainError.index}` : ''}: ${mainError.message}` : '');
+  el.errorText.textContent = text;
+  el.error.hidden = !text;
+  const p = state.points[mainError?.index ?? -1];
+  el.errorShow.hidden = importError != null || !p || pointVisible(p);
+  renderErrorMarker();
+}
+
+/** A label next to the offending point, or at the edge of the view pointing towards it. */
+function renderErrorMarker() {
+  el.layerError.replaceChildren();
+  const i = mainError?.index;
+  const p = i == null || importError ? null : state.points[i];
+  if (!p) return;
+  const u = unit();
+  const { x, y, w } = state.view;
+  // Clamp into the view (user coordinates), then back to world coordinates.
+  const margin = 24 * u;
+  const ux = Math.min(Math.max(p[0], x + margin), x + w - margin);
+  const uy = Math.min(Math.max(FRAME_H - p[1], y + margin), y + w * ASPECT - margin);
+  const at = [ux, FRAME_H - uy];
+  const inside = at[0] === p[0] && at[1] === p[1];
+  const label = inside ? `point ${i}: ${mainError.code}` : `→ point ${i} (${mainError.code}) is off view`;
+  const g = svg('g', { class: 'error-marker', 'data-testid': 'error-marker', transform: `translate(${at[0]} ${at[1]}) scale(${u} ${-u})` });
+  if (!inside) {
+    const ang = Math.atan2(-(p[1] - at[1]), p[0] - at[0]) * 180 / Math.PI;
+    g.append(svg('path', { d: 'M-8,-6L8,0L-8,6Z', transform: `rotate(${ang})`, class: 'pointer' }));
+  }
+  const text = svg('text', { x: inside ? 12 : 14, y: inside ? -12 : 4 });
+  text.textContent = label;
+  g.append(text);
+  el.layerError.append(g);
+  // Keep the label inside the view horizontally.
+  const box = text.getBBox();
+  if ((at[0] - x) / u + box.x + box.width > w / u - 4) text.setAttribute('x', -box.width - 14);
 }
 
 function addLegend(text, color) {
@@ -473,79 +751,91 @@ function addLegend(text, color) {
 
 // ---------- pointer interaction ----------
 
-function toWorld(evt) {
-  const p = el.canvas.createSVGPoint();
-  p.x = evt.clientX;
-  p.y = evt.clientY;
-  const q = p.matrixTransform(el.world.getScreenCTM().inverse());
-  return [q.x, q.y];
-}
-
-let drag = null;          // {index, moved}
+// {type: 'point' | 'handle' | 'pan' | 'press', index, moved, start, view, ctm}
+let drag = null;
 let suppressClick = false;
 
+function swallowNextClick() {
+  suppressClick = true;
+  setTimeout(() => { suppressClick = false; }, 0);
+}
+
 el.canvas.addEventListener('pointerdown', (evt) => {
-  const index = evt.target.dataset?.index;
-  if (index === undefined || evt.button !== 0) return;
+  const { index, handle } = evt.target.dataset ?? {};
+  if (evt.button === 1 || (evt.button === 0 && index === undefined && handle === undefined)) {
+    // Background (or middle button anywhere): a click adds a point, a drag pans.
+    drag = { type: evt.button === 1 ? 'pan' : 'press', start: [evt.clientX, evt.clientY], view: { ...state.view }, ctm: el.canvas.getScreenCTM() };
+    if (evt.button === 1) evt.preventDefault();
+    return;
+  }
+  if (evt.button !== 0) return;
   evt.preventDefault();
+  if (handle !== undefined) {
+    drag = { type: 'handle', index: Number(handle), moved: false };
+    return;
+  }
   const i = Number(index);
   if (evt.shiftKey) {
     removePoint(i);
-    suppressClick = true;
-    setTimeout(() => { suppressClick = false; }, 0);
+    swallowNextClick();
     return;
   }
   state.selected = i;
-  drag = { index: i, moved: false };
+  drag = { type: 'point', index: i, moved: false };
   renderPoints();
+  renderSelection();
 });
 
 window.addEventListener('pointermove', (evt) => {
   if (!drag) return;
+  if (drag.type === 'press' || drag.type === 'pan') {
+    const dx = evt.clientX - drag.start[0], dy = evt.clientY - drag.start[1];
+    if (drag.type === 'press' && Math.hypot(dx, dy) < DRAG_SLOP_PX) return;
+    drag.type = 'pan';
+    // Screen pixels to user units with the transform at the start of the drag.
+    setView({ x: drag.view.x - dx / drag.ctm.a, y: drag.view.y - dy / drag.ctm.d, w: drag.view.w });
+    return;
+  }
   if (!drag.moved) pushHistory(); // one undo step per drag
   drag.moved = true;
-  state.points[drag.index] = toWorld(evt);
+  const q = toWorld(evt);
+  const i = drag.index;
+  if (drag.type === 'handle') {
+    const [x, y] = state.points[i];
+    if (Math.hypot(q[0] - x, q[1] - y) > 1e-9 * unit()) state.tangents[i] = [q[0] - x, q[1] - y];
+  } else {
+    state.points[i] = q;
+  }
   changed();
 });
 
 window.addEventListener('pointerup', () => {
   if (!drag) return;
-  // The click that ends a press on a point never adds one.
-  suppressClick = true;
-  setTimeout(() => { suppressClick = false; }, 0);
+  // The click that ends a drag, a pan or a press on a point never adds a point.
+  if (drag.type !== 'press') swallowNextClick();
   drag = null;
 });
 
 el.canvas.addEventListener('click', (evt) => {
-  if (suppressClick || evt.target.dataset?.index !== undefined) return;
+  if (suppressClick || evt.target.dataset?.index !== undefined || evt.target.dataset?.handle !== undefined) return;
   if (evt.button !== 0 || evt.shiftKey) return;
-  if (evt.altKey) { insertOnCurve(toWorld(evt)); return; }
-  pushHistory();
-  state.points.push(toWorld(evt));
-  state.selected = state.points.length - 1;
-  changed();
+  const q = toWorld(evt);
+  if (evt.altKey) { insertOnCurve(q); return; }
+  insertPoint(state.points.length, q);
 });
+
+el.canvas.addEventListener('wheel', (evt) => {
+  evt.preventDefault();
+  const delta = evt.deltaMode === 1 ? evt.deltaY * 16 : evt.deltaY;
+  zoomAbout(Math.exp(-delta * 0.0015), toUser(evt.clientX, evt.clientY));
+}, { passive: false });
 
 /** Alt-click: inserts a point after the start point of the main-curve segment nearest to q. */
 function insertOnCurve(q) {
   if (!mainFit?.segments?.length) return;
-  let best = { d: Infinity, seg: -1 };
-  mainFit.segments.forEach(({ bezier: [p0, p1, p2, p3] }, i) => {
-    for (let j = 0; j <= 32; j++) {
-      const t = j / 32, s = 1 - t;
-      const x = s * s * s * p0[0] + 3 * s * s * t * p1[0] + 3 * s * t * t * p2[0] + t * t * t * p3[0];
-      const y = s * s * s * p0[1] + 3 * s * s * t * p1[1] + 3 * s * t * t * p2[1] + t * t * t * p3[1];
-      const d = Math.hypot(x - q[0], y - q[1]);
-      if (d < best.d) best = { d, seg: i };
-    }
-  });
   // Segment i runs from point i to point i+1 (the last one closes the loop when closed).
-  const at = Math.min(best.seg + 1, state.points.length);
-  pushHistory();
-  state.points.splice(at, 0, q);
-  state.selected = at;
-  if (mainError?.index != null) mainError = { ...mainError, index: null };
-  changed();
+  const at = Math.min(nearestSegment(mainFit.segments, q) + 1, state.points.length);
+  insertPoint(at, q);
 }
 
 window.addEventListener('keydown', (evt) => {
@@ -556,22 +846,25 @@ window.addEventListener('keydown', (evt) => {
     if (key === 'y' || evt.shiftKey) redo(); else undo();
     return;
   }
+  if (evt.ctrlKey || evt.metaKey || evt.altKey) return;
   if ((evt.key === 'Delete' || evt.key === 'Backspace') && state.selected >= 0) {
     evt.preventDefault();
     removePoint(state.selected);
   } else if (evt.key === 'Escape') {
     state.selected = -1;
     renderPoints();
+    renderSelection();
+  } else if (key === 'k' && state.selected >= 0) {
+    const i = state.selected;
+    setKind(i, KINDS[(KINDS.indexOf(state.kinds[i]) + 1) % KINDS.length]);
+  } else if (evt.key === '+' || evt.key === '=') {
+    zoomCenter(1.25);
+  } else if (evt.key === '-') {
+    zoomCenter(0.8);
+  } else if (key === 'f') {
+    fitView();
   }
 });
-
-function removePoint(i) {
-  pushHistory();
-  state.points.splice(i, 1);
-  state.selected = -1;
-  if (mainError?.index != null) mainError = { ...mainError, index: null };
-  changed();
-}
 
 // ---------- exports ----------
 
@@ -595,27 +888,29 @@ function exportSvgText() {
   if (mainFit) curves.push({ fit: mainFit, color: '#1d2330', width: 2.5 });
   for (const [name, r] of ensembleFits) if (r.fit) curves.push({ fit: r.fit, color: colorOf(name), width: 1.6 });
   for (const c of curves) for (const s of c.fit.segments) s.bezier.forEach(addPt);
-  if (!xs.length) { addPt([0, 0]); addPt([1000, FRAME_H]); }
-  const pad = 20;
-  const x0 = Math.min(...xs) - pad, x1 = Math.max(...xs) + pad;
-  const y0 = Math.min(...ys) - pad, y1 = Math.max(...ys) + pad;
-  const w = x1 - x0, h = y1 - y0;
+  if (!xs.length) { addPt([0, 0]); addPt([FRAME_W, FRAME_H]); }
+  const x0 = Math.min(...xs), x1 = Math.max(...xs);
+  const y0 = Math.min(...ys), y1 = Math.max(...ys);
+  const pad = 0.03 * Math.max(x1 - x0, y1 - y0, 1e-300);
+  const w = x1 - x0 + 2 * pad, h = y1 - y0 + 2 * pad;
+  const px = 800 / Math.max(w, h); // the larger side is 800 px
   const lines = [
-    `<svg xmlns="http://www.w3.org/2000/svg" viewBox="${fmt(x0)} ${fmt(-y1)} ${fmt(w)} ${fmt(h)}" width="${Math.round(w)}" height="${Math.round(h)}">`,
+    `<svg xmlns="http://www.w3.org/2000/svg" viewBox="${x0 - pad} ${-(y1 + pad)} ${w} ${h}" width="${Math.round(w * px)}" height="${Math.round(h * px)}">`,
     `<g transform="scale(1,-1)" fill="none">`,
   ];
+  const stroke = (width) => `stroke-width="${width}" vector-effect="non-scaling-stroke"`;
   for (const c of curves) {
-    lines.push(`<path d="${pathData(c.fit.segments)}" stroke="${c.color}" stroke-width="${c.width}" data-method="${c.fit.method}"/>`);
+    lines.push(`<path d="${pathData(c.fit.segments)}" stroke="${c.color}" ${stroke(c.width)} data-method="${c.fit.method}"/>`);
   }
   if (state.comb) {
     for (const node of el.layerComb.children) {
       if (node.tagName === 'line') {
         const a = ['x1', 'y1', 'x2', 'y2'].map((k) => `${k}="${node.getAttribute(k)}"`).join(' ');
-        lines.push(`<line ${a} stroke="#e07b39" stroke-width="0.8"/>`);
+        lines.push(`<line ${a} stroke="#e07b39" ${stroke(0.8)}/>`);
       }
     }
   }
-  for (const [x, y] of state.points) lines.push(`<circle cx="${x}" cy="${y}" r="4" fill="#fff" stroke="#1d4ed8" stroke-width="1.5"/>`);
+  for (const [x, y] of state.points) lines.push(`<circle cx="${x}" cy="${y}" r="${4 / px}" fill="#fff" stroke="#1d4ed8" ${stroke(1.5)}/>`);
   lines.push('</g>', '</svg>', '');
   return lines.join('\n');
 }
@@ -647,66 +942,60 @@ $('export-csv').addEventListener('click', () => {
 
 // ---------- import ----------
 
-/** Parses CSV (x,y per line, optional header, # comments) or JSON ({points, closed} or an array). */
-function parsePoints(text) {
-  const trimmed = text.trim();
-  if (!trimmed) throw new Error('nothing to import');
-  const toPoints = (list) => {
-    if (!Array.isArray(list)) throw new Error('"points" must be an array');
-    return list.map((p, i) => {
-      const xy = Array.isArray(p) ? p : (p && typeof p === 'object' ? [p.x, p.y] : null);
-      if (!xy || xy.length < 2 || !xy.slice(0, 2).every((v) => typeof v === 'number' && Number.isFinite(v))) {
-        throw new Error(`point ${i} is not a pair of finite numbers`);
-      }
-      return [xy[0], xy[1]];
-    });
-  };
-  if (trimmed.startsWith('{') || trimmed.startsWith('[')) {
-    let data;
-    try { data = JSON.parse(trimmed); } catch (e) { throw new Error(`invalid JSON: ${e.message}`); }
-    if (Array.isArray(data)) return { points: toPoints(data), closed: null };
-    if (!data || typeof data !== 'object') throw new Error('JSON must be an object or an array');
-    return { points: toPoints(data.points), closed: data.closed == null ? null : !!data.closed };
-  }
-  const points = [];
-  const lines = trimmed.split(/\r?\n/);
-  lines.forEach((raw, n) => {
-    const line = raw.replace(/#.*$/, '').trim();
-    if (!line) return;
-    const cells = line.split(/\s*[,;\t ]\s*/).filter((c) => c !== '');
-    const nums = cells.map(Number);
-    if (cells.length >= 2 && Number.isFinite(nums[0]) && Number.isFinite(nums[1])) {
-      points.push([nums[0], nums[1]]);
-    } else if (points.length === 0 && /^[a-z_]/i.test(cells[0] ?? '')) {
-      // A header line before the first point.
-    } else {
-      throw new Error(`line ${n + 1}: expected "x,y", got "${raw.trim().slice(0, 40)}"`);
-    }
-  });
-  if (!points.length) throw new Error('no points found');
-  return { points, closed: null };
-}
-
-$('import').addEventListener('click', () => {
+/** Imports CSV/JSON text (pasted or from a file); an error leaves everything as it was. */
+function importText(text, source) {
   let parsed;
   try {
-    parsed = parsePoints(el.importText.value);
+    parsed = parseImport(text);
   } catch (e) {
-    importError = e.message;
+    importError = `${source}: ${e.message}`;
     renderError();
     return;
   }
   pushHistory();
   if (parsed.closed != null) { state.closed = parsed.closed; el.closed.checked = state.closed; }
-  replacePoints(parsed.points);
+  if (parsed.alpha != null) { state.alpha = parsed.alpha; syncAlphaControl(); }
+  if (parsed.method && methodInfo(parsed.method)) {
+    state.method = parsed.method;
+    state.options = parsed.options ?? {};
+    el.method.value = state.method;
+    buildOptionsForm();
+  }
+  replacePoints(parsed.points, parsed.kinds, parsed.tangents);
+  fitView();
+}
+
+$('import').addEventListener('click', () => importText(el.importText.value, 'pasted text'));
+
+el.importFile.addEventListener('change', async () => {
+  const file = el.importFile.files?.[0];
+  if (!file) return;
+  if (file.size > 8 << 20) {
+    importError = `${file.name}: larger than 8 MB`;
+    renderError();
+  } else {
+    importText(await file.text(), file.name);
+  }
+  el.importFile.value = ''; // the same file can be chosen again
+});
+
+// Dropping a file on the canvas imports it too.
+el.canvas.addEventListener('dragover', (evt) => evt.preventDefault());
+el.canvas.addEventListener('drop', async (evt) => {
+  evt.preventDefault();
+  const file = evt.dataTransfer?.files?.[0];
+  if (file) importText(await file.text(), file.name);
 });
 
 el.undo.addEventListener('click', undo);
 el.redo.addEventListener('click', redo);
 
 /** Replaces all points and forgets every fit of the old ones. */
-function replacePoints(points) {
+function replacePoints(points, kinds = null, tangents = null) {
   state.points = points;
+  state.kinds = kinds ?? Array(points.length).fill('smooth');
+  state.tangents = tangents ?? Array(points.length).fill(null);
+  state.tangents = state.tangents.map((t, i) => (state.kinds[i] === 'clamped' ? t : null));
   state.selected = -1;
   mainFit = null;
   mainError = null;
@@ -737,24 +1026,52 @@ el.closed.addEventListener('change', () => {
   state.closed = el.closed.checked;
   changed();
 });
+el.alpha.addEventListener('change', () => {
+  el.alphaNumber.disabled = el.alpha.value !== '#number';
+  const v = Number(el.alpha.value === '#number' ? el.alphaNumber.value : el.alpha.value);
+  if (Number.isFinite(v)) { state.alpha = v; el.alphaNumber.value = v; changed(); }
+});
+el.alphaNumber.addEventListener('input', () => {
+  const v = Number(el.alphaNumber.value);
+  el.alphaNumber.classList.toggle('invalid', !Number.isFinite(v) || el.alphaNumber.value.trim() === '');
+  if (Number.isFinite(v) && el.alphaNumber.value.trim() !== '') { state.alpha = v; changed(); }
+});
+el.kindBox.addEventListener('change', (evt) => {
+  if (evt.target.name === 'kind') setKind(state.selected, evt.target.value);
+});
 el.polygon.addEventListener('change', () => { state.polygon = el.polygon.checked; renderControlPolygon(); saveHash(); });
 el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderComb(); saveHash(); });
+el.plotToggle.addEventListener('change', () => { state.plot = el.plotToggle.checked; renderPlot(); saveHash(); });
+$('zoom-in').addEventListener('click', () => zoomCenter(1.25));
+$('zoom-out').addEventListener('click', () => zoomCenter(0.8));
+$('zoom-fit').addEventListener('click', fitView);
+el.errorShow.addEventListener('click', () => {
+  const p = state.points[mainError?.index ?? -1];
+  if (p) { centerOn(p); renderError(); }
+});
 
 async function start() {
   loadHash();
   el.closed.checked = state.closed;
   el.comb.checked = state.comb;
   el.polygon.checked = state.polygon;
+  el.plotToggle.checked = state.plot;
+  syncAlphaControl();
   updateHistoryButtons();
+  applyView();
   try {
     const res = await fetch('/api/methods');
     schema = await res.json();
   } catch (e) {
-    el.error.textContent = `cannot load /api/methods: ${e.message}`;
+    el.errorText.textContent = `cannot load /api/methods: ${e.message}`;
+    el.error.hidden = false;
     return;
   }
   if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
-  for (const m of schema.methods) el.method.add(new Option(m.name, m.name));
+  for (const m of schema.methods) {
+    el.method.add(new Option(m.name, m.name));
+    $('method-names').append(new Option(m.name));
+  }
   el.method.value = state.method;
   buildOptionsForm();
   buildEnsemble();
