@@ -474,7 +474,7 @@ function applyView() {
   renderKinds();
   renderComb();
   renderControlPolygon();
-  renderErrorMarker();
+  renderError(); // "show point" depends on what is in view
 }
 
 function setView(view) {
@@ -534,10 +534,23 @@ function centerOn([px, py]) {
   setView({ x: px - w / 2, y: FRAME_H - py - (w * ASPECT) / 2, w });
 }
 
+/** The user-coordinate rectangle visible on screen (wider or taller than the viewBox when the
+ * canvas's aspect differs from the frame's). */
+function visibleRect() {
+  const r = el.canvas.getBoundingClientRect();
+  if (!r.width || !r.height) {
+    const { x, y, w } = state.view;
+    return { x0: x, y0: y, x1: x + w, y1: y + w * ASPECT };
+  }
+  const [x0, y0] = toUser(r.left, r.top);
+  const [x1, y1] = toUser(r.right, r.bottom);
+  return { x0, y0, x1, y1 };
+}
+
 function pointVisible([px, py]) {
-  const { x, y, w } = state.view;
+  const v = visibleRect();
   const uy = FRAME_H - py;
-  return px >= x && px <= x + w && uy >= y && uy <= y + w * ASPECT;
+  return px >= v.x0 && px <= v.x1 && uy >= v.y0 && uy <= v.y1;
 }
 
 // ---------- drawing ----------
@@ -631,7 +644,7 @@ function renderControlPolygon() {
 }
 
 function renderPlot() {
-  el.plot.hidden = !state.plot;
+  el.plot.toggleAttribute('hidden', !state.plot); // an <svg> has no .hidden property
   if (!state.plot) return;
   const curves = [];
   if (mainFit) curves.push({ name: state.method, color: 'var(--fg)', main: true, samples: sampleCurve(mainFit.segments, PLOT_SAMPLES) });
@@ -705,6 +718,7 @@ function renderError() {
   const text = importError ? `import: ${importError}`
     : (mainError ? `${mainError.code}${mainError.index != null ? ` at point ${mainError.index}` : ''}: ${mainError.message}` : '');
   el.errorText.textContent = text;
+  el.error.title = text;
   el.error.hidden = !text;
   const p = state.points[mainError?.index ?? -1];
   el.errorShow.hidden = importError != null || !p || pointVisible(p);
@@ -718,26 +732,26 @@ function renderErrorMarker() {
   const p = i == null || importError ? null : state.points[i];
   if (!p) return;
   const u = unit();
-  const { x, y, w } = state.view;
-  // Clamp into the view (user coordinates), then back to world coordinates.
+  const v = visibleRect();
+  // Clamp into the visible area (user coordinates), then back to world coordinates.
   const margin = 24 * u;
-  const ux = Math.min(Math.max(p[0], x + margin), x + w - margin);
-  const uy = Math.min(Math.max(FRAME_H - p[1], y + margin), y + w * ASPECT - margin);
+  const ux = Math.min(Math.max(p[0], v.x0 + margin), v.x1 - margin);
+  const uy = Math.min(Math.max(FRAME_H - p[1], v.y0 + margin), v.y1 - margin);
   const at = [ux, FRAME_H - uy];
   const inside = at[0] === p[0] && at[1] === p[1];
-  const label = inside ? `point ${i}: ${mainError.code}` : `→ point ${i} (${mainError.code}) is off view`;
+  const label = inside ? `point ${i}: ${mainError.code}` : `point ${i} (${mainError.code}) is off view`;
   const g = svg('g', { class: 'error-marker', 'data-testid': 'error-marker', transform: `translate(${at[0]} ${at[1]}) scale(${u} ${-u})` });
   if (!inside) {
     const ang = Math.atan2(-(p[1] - at[1]), p[0] - at[0]) * 180 / Math.PI;
-    g.append(svg('path', { d: 'M-8,-6L8,0L-8,6Z', transform: `rotate(${ang})`, class: 'pointer' }));
+    g.append(svg('path', { d: 'M-6,-5L12,0L-6,5Z', transform: `rotate(${ang})`, class: 'pointer' }));
   }
   const text = svg('text', { x: inside ? 12 : 14, y: inside ? -12 : 4 });
   text.textContent = label;
   g.append(text);
   el.layerError.append(g);
-  // Keep the label inside the view horizontally.
+  // Keep the label inside the visible area horizontally.
   const box = text.getBBox();
-  if ((at[0] - x) / u + box.x + box.width > w / u - 4) text.setAttribute('x', -box.width - 14);
+  if (at[0] + (box.x + box.width) * u > v.x1 - 4 * u) text.setAttribute('x', -box.width - 14);
 }
 
 function addLegend(text, color) {

@@ -1,0 +1,206 @@
+// End-to-end test of the editor's node kinds, curvature plot, zoom and pan, file import, errors
+// at points outside the view, and the live-fit latency at 200 points, in headless Debian
+// chromium. Screenshots go to FAIRSPLINE_E2E_OUT.
+import { check, eventually, hashOf, out, run, trackFits, waitForPieces } from './harness.mjs';
+
+const FIVE = [[150, 200], [300, 450], [500, 300], [700, 500], [850, 250]];
+
+/** Screen centre and width of an element. */
+async function centre(page, testid) {
+  const b = await page.locator(`[data-testid="${testid}"]`).boundingBox();
+  return { x: b.x + b.width / 2, y: b.y + b.height / 2, w: b.width };
+}
+
+/** The JSON export of the main curve (the last fit shown). */
+async function exported(page) {
+  await page.click('[data-testid="export-json"]');
+  return JSON.parse(await page.$eval('[data-testid="export-json-text"]', (t) => t.value));
+}
+
+const unit = ([x, y]) => { const l = Math.hypot(x, y); return [x / l, y / l]; };
+const cross = (a, b) => a[0] * b[1] - a[1] * b[0];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1];
+
+await run(async ({ page, url }) => {
+  const { requests, settled } = trackFits(page);
+  await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
+  await waitForPieces(page, 'quasi-elastic', 4);
+  const canvasBox = await page.locator('[data-testid="canvas"]').boundingBox();
+  const inCanvas = (p) => p.x >= canvasBox.x && p.x <= canvasBox.x + canvasBox.width && p.y >= canvasBox.y && p.y <= canvasBox.y + canvasBox.height;
+
+  // ---- node kinds: a clamped point keeps the direction of its arrow ----
+  check(await page.isDisabled('[data-testid="kind-clamped"]'), 'the kind control is disabled with no point selected');
+  await page.click('[data-testid="point-1"]');
+  check(await page.isChecked('[data-testid="kind-smooth"]'), 'selecting a point shows its kind (smooth)');
+  await page.check('[data-testid="kind-clamped"]');
+  await page.locator('[data-testid="handle-1"]').waitFor();
+  check(await page.locator('[data-testid="tangent-1"]').count() === 1, 'a clamped point gets a tangent arrow');
+  await settled();
+  const initial = requests[requests.length - 1].tangents[1];
+  const fitBefore = (await exported(page)).tangents[1];
+  check(Math.abs(cross(unit(initial), unit(fitBefore))) < 1e-9,
+    'a newly clamped point starts with the tangent the curve had');
+  const h = await centre(page, 'handle-1');
+  await page.mouse.move(h.x, h.y);
+  await page.mouse.down();
+  await page.mouse.move(h.x, h.y - 30, { steps: 4 });
+  await page.mouse.up();
+  await settled();
+  const last = requests[requests.length - 1];
+  const given = last?.kinds?.[1] === 'clamped' && Array.isArray(last.tangents?.[1]) ? last.tangents[1] : null;
+  check(given !== null, `the request sends kinds and the clamped tangent (${JSON.stringify(given)})`);
+  check(given && Math.atan2(given[1], given[0]) > Math.atan2(initial[1], initial[0]) + 0.1,
+    'dragging the arrow tip up turns the tangent up');
+  const fitted = (await exported(page)).tangents?.[1];
+  check(fitted && given && Math.abs(cross(unit(fitted), unit(given))) < 1e-9 && dot(fitted, given) > 0,
+    `the fitted tangent at the clamped point is the arrow direction (|cross| < 1e-9; ${JSON.stringify(fitted)})`);
+  check(await page.locator('[data-testid="point-1"][data-kind="clamped"]').count() === 1, 'the point is drawn as clamped');
+
+  // ---- a corner: the tangent turns there ----
+  await page.click('[data-testid="point-3"]');
+  await page.check('[data-testid="kind-corner"]');
+  await page.locator('[data-testid="corner-3"]').waitFor();
+  const corner = await eventually(async () => {
+    const fit = await exported(page);
+    return fit.report?.max_tangent_angle_jump_deg > 1 ? fit : null;
+  });
+  check(corner !== null, `a corner point makes a tangent jump (${corner?.report?.max_tangent_angle_jump_deg?.toFixed(2)}°)`);
+  await page.screenshot({ path: `${out}/editor-kinds.png` });
+  await page.keyboard.press('k');
+  check(await page.locator('[data-testid="corner-3"]').count() === 0 && await page.isChecked('[data-testid="kind-smooth"]'),
+    'K cycles the selected point\'s kind (corner → smooth)');
+  await page.keyboard.press('Control+z');
+  check(await page.locator('[data-testid="corner-3"]').count() === 1, 'a kind change is undoable');
+  await page.reload();
+  await page.locator('[data-testid="corner-3"]').waitFor();
+  check(await page.locator('[data-testid="tangent-1"]').count() === 1, 'kinds and tangents survive a reload (URL state)');
+  await waitForPieces(page, 'quasi-elastic', 4);
+
+  // ---- curvature plot ----
+  const kappa = page.locator('[data-testid="kappa-quasi-elastic"]');
+  await kappa.waitFor();
+  const plotD = await kappa.getAttribute('d');
+  check((plotD.match(/L/g) ?? []).length > 50, 'the curvature plot draws the main curve');
+  // A free end of a minimal-energy curve has zero curvature (Johnson–Johnson Theorem 3.3):
+  // the plot starts on its zero axis.
+  const zeroY = await page.$eval('[data-testid="curvature-plot"] .axes line', (l) => Number(l.getAttribute('y1')));
+  const firstY = Number(/^M[\d.]+ ([\d.]+)/.exec(plotD)?.[1]);
+  check(Math.abs(firstY - zeroY) < 0.5, `the plot starts at κ = 0 at the free end (${firstY} vs ${zeroY})`);
+  await page.check('[data-testid="ensemble-cond-g2"]');
+  await page.locator('[data-testid="kappa-cond-g2"]').waitFor();
+  check(true, 'an ensemble method gets its own line in the curvature plot');
+  await page.uncheck('[data-testid="plot-toggle"]');
+  check(await page.isHidden('[data-testid="curvature-plot"]'), 'the curvature plot can be hidden');
+  await page.check('[data-testid="plot-toggle"]');
+  await page.uncheck('[data-testid="ensemble-cond-g2"]');
+
+  // ---- zoom about the cursor, then pan ----
+  await settled();
+  const before = { p0: await centre(page, 'point-0'), p2: await centre(page, 'point-2') };
+  await page.mouse.move(before.p2.x, before.p2.y);
+  await page.mouse.wheel(0, -300);
+  await page.waitForTimeout(100);
+  const zoomed = { p0: await centre(page, 'point-0'), p2: await centre(page, 'point-2') };
+  const spread = (s) => Math.hypot(s.p0.x - s.p2.x, s.p0.y - s.p2.y);
+  check(Math.hypot(zoomed.p2.x - before.p2.x, zoomed.p2.y - before.p2.y) < 1.5, 'the wheel zooms about the cursor (the point under it stays)');
+  check(spread(zoomed) > 1.3 * spread(before), `the wheel zooms in (×${(spread(zoomed) / spread(before)).toFixed(2)})`);
+  check(Math.abs(zoomed.p2.w - before.p2.w) < 1, 'points keep their size on screen');
+  const count = await page.locator('[data-testid^="point-"]').count();
+  // Pan from an empty spot of the background.
+  const spot = { x: canvasBox.x + 40, y: canvasBox.y + canvasBox.height / 2 };
+  const empty = await page.evaluate(({ x, y }) => document.elementFromPoint(x, y)?.dataset?.index === undefined, spot);
+  check(empty, 'the pan starts on the background');
+  await page.mouse.move(spot.x, spot.y);
+  await page.mouse.down();
+  await page.mouse.move(spot.x + 120, spot.y + 60, { steps: 6 });
+  await page.mouse.up();
+  const panned = await centre(page, 'point-2');
+  check(Math.abs(panned.x - zoomed.p2.x - 120) < 1.5 && Math.abs(panned.y - zoomed.p2.y - 60) < 1.5,
+    `dragging the background pans (${(panned.x - zoomed.p2.x).toFixed(1)}, ${(panned.y - zoomed.p2.y).toFixed(1)})`);
+  check(await page.locator('[data-testid^="point-"]').count() === count, 'a pan adds no point');
+  check(decodeURIComponent(page.url()).includes('"v":['), 'the view is kept in the URL');
+  await page.click('[data-testid="zoom-fit"]');
+  let all = true;
+  for (let i = 0; i < 5; i++) all &&= inCanvas(await centre(page, `point-${i}`));
+  check(all, 'fit frames every point');
+
+  // ---- an error at a point outside the view ----
+  const bad = [[100, 300], [400, 300], [150, 320], [600, 300]];
+  await page.goto(url + hashOf({ p: bad, m: 'min-energy', o: { basis: 'yong-cheng' } }));
+  await page.reload();
+  await page.locator('[data-testid="error-marker"]').waitFor();
+  const inside = await page.locator('[data-testid="error-marker"]').textContent();
+  check(/^point \d: infeasible/.test(inside), `the error is labelled at the point (${inside})`);
+  const badIndex = Number(/point (\d)/.exec(inside)?.[1]);
+  // Zoom far into the right edge: the offending point leaves the view.
+  await page.mouse.move(canvasBox.x + canvasBox.width - 30, canvasBox.y + 30);
+  for (let i = 0; i < 4; i++) await page.mouse.wheel(0, -400);
+  await page.waitForTimeout(100);
+  check(!inCanvas(await centre(page, `point-${badIndex}`)), 'the offending point is off view after zooming');
+  const off = await page.locator('[data-testid="error-marker"]').textContent();
+  check(off.includes('off view') && off.includes(`point ${badIndex}`), `the marker at the edge points to it (${off})`);
+  check(await page.isVisible('[data-testid="error-show"]'), 'the error offers "show point"');
+  await page.screenshot({ path: `${out}/editor-error-off-view.png` });
+  await page.click('[data-testid="error-show"]');
+  check(inCanvas(await centre(page, `point-${badIndex}`)), '"show point" brings it into view');
+  check(/^point \d: /.test(await page.locator('[data-testid="error-marker"]').textContent()), 'the label is back at the point');
+
+  // ---- import from a file: Hermite data at another scale, method and tangents included ----
+  await page.goto(url);
+  await page.reload();
+  await page.waitForSelector('[data-testid="method"] option', { state: 'attached' });
+  const file = { points: [[0, 0], [1e5, 2e5], [3e5, 1e5], [4e5, 3e5]], tangents: [[1, 0], null, null, [1, 1]], method: 'jaklic-zagar' };
+  await page.setInputFiles('[data-testid="import-file"]', { name: 'hermite.json', mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(file)) });
+  await waitForPieces(page, 'jaklic-zagar', 3);
+  check(await page.$eval('[data-testid="method"]', (s) => s.value) === 'jaklic-zagar', 'the file\'s method is selected');
+  check(await page.locator('[data-testid="tangent-0"]').count() === 1 && await page.locator('[data-testid="tangent-3"]').count() === 1,
+    'the file\'s tangents make clamped points');
+  all = true;
+  for (let i = 0; i < 4; i++) all &&= inCanvas(await centre(page, `point-${i}`));
+  check(all, 'the view frames the imported points (coordinates up to 4e5)');
+  const hermite = await eventually(async () => { const f = await exported(page); return f.points?.[3]?.[0] === 4e5 ? f : null; });
+  check(hermite && Math.abs(cross(hermite.tangents[0], [1, 0])) < 1e-9 && Math.abs(cross(unit(hermite.tangents[3]), unit([1, 1]))) < 1e-9,
+    'the fit keeps the imported end tangents');
+  await page.screenshot({ path: `${out}/editor-import-file.png` });
+  await page.setInputFiles('[data-testid="import-file"]', { name: 'bad.csv', mimeType: 'text/csv', buffer: Buffer.from('x,y\n1,2\noops\n') });
+  const msg = await eventually(() => page.locator('[data-testid="error"]').textContent());
+  check(msg.includes('bad.csv') && msg.includes('line 3'), `a malformed file names itself and the line (${msg})`);
+  check(await page.locator('[data-testid^="point-"]').count() === 4, 'a malformed file keeps the points');
+
+  // ---- live fit latency at 200 points (measured and printed, not asserted) ----
+  const wave = Array.from({ length: 200 }, (_, i) => [50 + 4.5 * i, 350 + 200 * Math.sin(i / 12) + 40 * Math.sin(i / 3.7)]);
+  await page.goto(url + hashOf({ p: wave, m: 'quasi-elastic' }));
+  await page.reload();
+  await waitForPieces(page, 'quasi-elastic', 199);
+  const times = [];
+  for (let k = 0; k < 10; k++) {
+    const old = await page.locator('[data-testid="curve-quasi-elastic"]').getAttribute('d');
+    const c = await centre(page, 'point-100');
+    const t0 = Date.now();
+    await page.mouse.move(c.x, c.y);
+    await page.mouse.down();
+    await page.mouse.move(c.x, c.y + (k % 2 ? 12 : -12));
+    await page.mouse.up();
+    await page.waitForFunction((d) => document.querySelector('[data-testid="curve-quasi-elastic"]')?.getAttribute('d') !== d, old);
+    times.push(Date.now() - t0);
+  }
+  times.sort((a, b) => a - b);
+  const report = await page.locator('[data-testid="report"]').textContent();
+  check(/fit [\d.]+ ms/.test(report), `the report shows the server's fit time (${report.split('·').pop().trim()})`);
+  console.log(`info: drag to redrawn curve at 200 points: median ${times[5]} ms, max ${times[9]} ms (includes the ${30} ms debounce)`);
+  const perMethod = await page.evaluate(async (points) => {
+    const res = {};
+    const { methods } = await (await fetch('/api/methods')).json();
+    for (const m of methods) {
+      const body = { points: m.name === 'kozak-krajnc' ? points.slice(0, 199) : points, method: m.name };
+      if (m.name === 'yong-cheng') body.options = { tangents_from: 'jaklic-zagar' };
+      if (m.name === 'li-curvature-variation') body.start_tangent = [1, 0];
+      const r = await fetch('/api/fit', { method: 'POST', body: JSON.stringify(body) });
+      res[m.name] = r.ok ? Number(/dur=([\d.]+)/.exec(r.headers.get('Server-Timing'))[1]) : `HTTP ${r.status}`;
+    }
+    return res;
+  }, wave);
+  console.log(`info: server fit time at 200 points (ms): ${JSON.stringify(perMethod)}`);
+  check(Object.values(perMethod).every((v) => typeof v === 'number'), 'every method fits the 200-point wave');
+  await page.screenshot({ path: `${out}/editor-200-points.png` });
+});
