@@ -1,4 +1,5 @@
-// The `fairspline` command: fit points from CSV/JSON, list methods, time a method.
+// The `fairspline` command: fit points from CSV/JSON, fit a JSON Lines file of curves in
+// parallel (batch.cpp), list methods, time a method, serve the editor.
 //
 // Exit codes: 0 success; 1 the fit failed with a fairspline::Error; 2 usage errors and
 // malformed or unreadable input (and unwritable output).
@@ -24,6 +25,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "batch.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/io/csv.hpp"
@@ -386,6 +388,28 @@ int run(int argc, char** argv) {
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")
       ->check(CLI::Range(-1, 16));
 
+  fairspline::cli::BatchArgs bta;
+  CLI::App* batch = app.add_subcommand(
+      "batch",
+      "Fit one JSON request per line (JSON Lines) in parallel; one JSON record per line and "
+      "method out, in input order.");
+  batch->add_option("INPUT", bta.input,
+                    "JSON Lines file, one request as accepted by 'fit' per line (blank lines and "
+                    "lines starting with '#' are skipped); '-' or none reads standard input");
+  batch->add_option("-o,--output", bta.output, "Output file (default: standard output)");
+  batch->add_option("--threads", bta.threads, "Worker threads (default 0: all cores)")
+      ->check(CLI::Range(0u, 1024u));
+  batch
+      ->add_option("-m,--method", bta.methods,
+                   "Method, overriding each line's \"method\"; repeat to fit every line with "
+                   "each method in turn (one record per line and method)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  batch->add_option("--report", bta.report, "Report level (default: basic)")
+      ->check(CLI::IsMember({"none", "basic", "full"}));
+  batch->add_flag("--quiet", bta.quiet, "No progress line (shown only when stderr is a terminal)");
+
   bool methods_json = false;
   CLI::App* methods = app.add_subcommand("methods", "List the methods and their options.");
   methods->add_flag("--json", methods_json, "Print the method schemas as a JSON array");
@@ -428,6 +452,13 @@ int run(int argc, char** argv) {
 
   try {
     if (*fit) return run_fit(fa);
+    if (*batch) {
+      try {
+        return fairspline::cli::run_batch(bta);
+      } catch (const Error& e) {
+        throw UsageError{e};  // per-record failures are records; what escapes stops the batch
+      }
+    }
     if (*methods) return run_methods(methods_json);
     if (*bench) return run_bench(ba);
     if (*serve) return run_serve(sa);

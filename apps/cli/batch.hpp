@@ -1,0 +1,25 @@
+// `fairspline batch`: fits a JSON Lines file of curves in parallel, streaming, in input order.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fairspline::cli {
+
+/// The command line of `fairspline batch`.
+struct BatchArgs {
+  std::string input;                 ///< JSON Lines file; empty or "-": standard input
+  std::string output;                ///< empty or "-": standard output
+  unsigned threads = 0;              ///< 0: all cores
+  std::vector<std::string> methods;  ///< -m, in order; empty: each line's "method" or the default
+  std::string report = "basic";      ///< none | basic | full
+  bool quiet = false;                ///< no progress line even on a terminal
+};
+
+/// Runs the batch and returns the exit status: 0 every record succeeded, 1 some record failed
+/// (stderr then ends with "fairspline batch: F of N records failed"). Throws fairspline::Error
+/// for what the caller reports as a usage error (exit 2): an unknown method, unreadable input,
+/// unwritable output.
+int run_batch(const BatchArgs& args);
+
+}  // namespace fairspline::cli
