@@ -117,6 +117,14 @@ TEST(WebApi, HttpRoundTripOnAFreeLoopbackPort) {
   const double ms = std::stod(timing.substr(8));
   EXPECT_GE(ms, 0.0);
   EXPECT_LT(ms, 60000.0);
+  // Never compressed, even when the client accepts it (brotli costs 100x the fit).
+  auto plain = client.Post("/api/fit", {{"Accept-Encoding", "gzip, deflate, br"}},
+                           R"({"points": [[0,0],[1,1],[2,0]]})", "application/json");
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(plain->status, 200);
+  EXPECT_FALSE(plain->has_header("Content-Encoding"))
+      << plain->get_header_value("Content-Encoding");
+  EXPECT_EQ(json::parse(plain->body).at("segments").size(), 2u);
   auto bad = client.Post("/api/fit", "{", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);

@@ -9,9 +9,11 @@ import { renderCurvaturePlot } from './plot.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const FRAME_W = 1000, FRAME_H = 700, ASPECT = FRAME_H / FRAME_W;
-const FIT_DELAY_MS = 30;
+// Live fits are coalesced rather than delayed: edits within one task go out together, at most one
+// request is in flight, and the edits made meanwhile are sent when it returns.
+const FIT_DELAY_MS = 0;
 const COMB_SAMPLES = 16;   // per segment
-const PLOT_SAMPLES = 24;   // per segment
+const PLOT_SAMPLES = 2000; // in all (the plot is 1000 units wide), 4 to 24 per segment
 const COMB_MAX_PX = 60;    // longest comb tooth, in pixels of the default view
 const POINT_R_PX = 7;
 const ARROW_PX = 80;       // length of a new clamped tangent arrow
@@ -55,6 +57,9 @@ let schema = { default: null, methods: [] };
 let mainFit = null;            // last successful answer for the main method
 let mainError = null;          // {code, message, index} of the last failed main fit
 let mainTiming = null;         // {server, roundTrip} in ms of the last main fit
+let lastDrawMs = null;         // time render() took after the last fit
+let editSince = null;          // performance.now() of the oldest edit not yet sent to the server
+let lastLatencyMs = null;      // from that edit to the fit drawn on screen (debounce included)
 const ensembleFits = new Map(); // name → {fit} or {error}
 let importError = null;        // message of the last failed import, shown until the next edit
 
@@ -420,7 +425,7 @@ let fitTimer = null;
 let fitInFlight = false;
 let fitPending = false;
 
-/** Schedules a fit at most every FIT_DELAY_MS; a change during a request refits afterwards. */
+/** Schedules a fit (see FIT_DELAY_MS); a change during a request refits afterwards. */
 function requestFit() {
   if (fitTimer) return;
   fitTimer = setTimeout(runFit, FIT_DELAY_MS);
@@ -430,6 +435,8 @@ async function runFit() {
   fitTimer = null;
   if (fitInFlight) { fitPending = true; return; }
   fitInFlight = true;
+  const since = editSince;
+  editSince = null;
   try {
     if (state.points.length < 2 || !state.method) {
       mainFit = null;
@@ -448,7 +455,11 @@ async function runFit() {
       ensembleFits.clear();
       names.forEach((n, i) => ensembleFits.set(n, others[i]));
     }
+    const drawStart = performance.now();
     render();
+    lastDrawMs = performance.now() - drawStart;
+    if (since != null) lastLatencyMs = performance.now() - since;
+    renderReport();
   } finally {
     fitInFlight = false;
     if (fitPending) { fitPending = false; requestFit(); }
@@ -457,6 +468,7 @@ async function runFit() {
 
 /** Any change of the data: redraw the points now, save the hash, refit soon. */
 function changed() {
+  editSince ??= performance.now();
   renderPoints();
   renderSelection();
   saveHash();
@@ -647,9 +659,10 @@ function renderPlot() {
   el.plot.toggleAttribute('hidden', !state.plot); // an <svg> has no .hidden property
   if (!state.plot) return;
   const curves = [];
-  if (mainFit) curves.push({ name: state.method, color: 'var(--fg)', main: true, samples: sampleCurve(mainFit.segments, PLOT_SAMPLES) });
+  const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(4, Math.ceil(PLOT_SAMPLES / segments.length))));
+  if (mainFit) curves.push({ name: state.method, color: 'var(--fg)', main: true, samples: samples(mainFit.segments) });
   for (const [name, r] of ensembleFits) {
-    if (r.fit) curves.push({ name, color: colorOf(name), main: false, samples: sampleCurve(r.fit.segments, PLOT_SAMPLES) });
+    if (r.fit) curves.push({ name, color: colorOf(name), main: false, samples: samples(r.fit.segments) });
   }
   renderCurvaturePlot(el.plot, curves);
 }
@@ -701,16 +714,24 @@ function render() {
     addLegend(name, color);
   }
   renderError();
-  const r = mainFit?.report;
-  const timing = mainTiming ? ` · fit ${mainTiming.server == null ? '?' : fmt(mainTiming.server)} ms (round trip ${fmt(mainTiming.roundTrip)} ms)` : '';
-  el.report.textContent = r
-    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${timing}`
-    : '';
+  renderReport();
   renderPoints();
   renderComb();
   renderControlPolygon();
   renderPlot();
   renderTable();
+}
+
+/** One line under the plot: the main curve's numbers and how long the fit took. */
+function renderReport() {
+  const r = mainFit?.report;
+  const ms = (v) => (v == null ? '?' : Number(v.toPrecision(2)).toString());
+  const timing = mainTiming
+    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms`
+    : '';
+  el.report.textContent = r
+    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${timing}`
+    : '';
 }
 
 /** The message in the box over the canvas; "show point" when the offending point is off view. */
