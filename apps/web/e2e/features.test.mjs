@@ -56,6 +56,23 @@ await run(async ({ page, url }) => {
     `the fitted tangent at the clamped point is the arrow direction (|cross| < 1e-9; ${JSON.stringify(fitted)})`);
   check(await page.locator('[data-testid="point-1"][data-kind="clamped"]').count() === 1, 'the point is drawn as clamped');
 
+  // ---- clamping keeps a C1 curve as it is: the arrow is the control arm, the tangent sent is
+  // 3·arrow/Δt, exactly the derivative the curve had ----
+  await page.selectOption('[data-testid="method"]', 'li-strain');
+  await settled();
+  await page.click('[data-testid="point-2"]');
+  const liBefore = await exported(page);
+  await page.check('[data-testid="kind-clamped"]');
+  await settled();
+  const liAfter = await exported(page);
+  const scale = Math.max(...liBefore.segments.flatMap((s) => s.bezier.flat().map(Math.abs)));
+  const moved = Math.max(...liAfter.segments.flatMap((s, k) => s.bezier.flatMap((p, j) => p.map((v, c) => Math.abs(v - liBefore.segments[k].bezier[j][c])))));
+  check(requests[requests.length - 1].kinds[2] === 'clamped' && moved <= 1e-9 * scale,
+    `clamping a point of a li-strain curve leaves it unchanged (max control point change ${moved.toExponential(1)})`);
+  await page.keyboard.press('Control+z');
+  await page.selectOption('[data-testid="method"]', 'quasi-elastic');
+  await settled();
+
   // ---- a corner: the tangent turns there ----
   await page.click('[data-testid="point-3"]');
   await page.check('[data-testid="kind-corner"]');

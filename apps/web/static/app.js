@@ -40,7 +40,7 @@ const el = {
 const state = {
   points: [],          // [[x, y], ...] in world coordinates
   kinds: [],           // 'smooth' | 'clamped' | 'corner', one per point
-  tangents: [],        // [dx, dy] for clamped points, null otherwise
+  tangents: [],        // arrow [dx, dy] of clamped points (world units; see knotSpan), else null
   closed: false,
   alpha: 0.5,          // knot parameterization exponent (sent as "alpha")
   method: null,
@@ -158,15 +158,38 @@ function removePoint(i) {
   changed();
 }
 
-/** The unit tangent the last fit has at point i, or the chord direction there. */
-function currentDirection(i) {
-  const t = mainFit?.tangents?.[i];
-  if (t && mainFit.points.length === state.points.length && Math.hypot(...t) > 0) return t;
+/**
+ * The knot spacing Δt = |ΔP|^α of the span after point i (before it for the last point of an
+ * open curve). A clamped point's arrow is drawn where its neighbouring Bézier control point
+ * goes, so the tangent sent is 3·arrow/Δt: C1 methods (li-*) take its length as the speed,
+ * G1 methods only its direction.
+ */
+function knotSpan(i) {
+  const n = state.points.length;
+  const j = i + 1 < n ? i + 1 : (state.closed ? 0 : i - 1);
+  if (j < 0 || j === i) return 1;
+  const d = Math.hypot(state.points[j][0] - state.points[i][0], state.points[j][1] - state.points[i][1]);
+  const span = state.alpha === 0 ? 1 : d ** state.alpha;
+  return span > 0 && Number.isFinite(span) ? span : 1;
+}
+
+const arrowToTangent = (a, i) => (a ? [(3 * a[0]) / knotSpan(i), (3 * a[1]) / knotSpan(i)] : null);
+const tangentToArrow = (t, i) => (t ? [(t[0] * knotSpan(i)) / 3, (t[1] * knotSpan(i)) / 3] : null);
+
+/** The arrow that reproduces the last fit at point i: its control arm there when the fit has a
+ * segment starting (or, at the end, ending) at i; else the chord direction, ARROW_PX long. */
+function currentArrow(i) {
+  const segs = mainFit && mainFit.points.length === state.points.length ? mainFit.segments : [];
+  const after = segs.find((s) => s.span === i && s.t0 === mainFit.knots[i]);
+  const before = segs.find((s) => s.span === i - 1 && s.t1 === mainFit.knots[i]);
+  const arm = after ? [after.bezier[1][0] - after.bezier[0][0], after.bezier[1][1] - after.bezier[0][1]]
+    : before ? [before.bezier[3][0] - before.bezier[2][0], before.bezier[3][1] - before.bezier[2][1]] : null;
+  if (arm && Math.hypot(...arm) > 0) return arm;
   const n = state.points.length;
   const a = state.points[Math.max(0, i - 1)], b = state.points[Math.min(n - 1, i + 1)];
   const d = [b[0] - a[0], b[1] - a[1]];
-  const len = Math.hypot(...d);
-  return len > 0 ? [d[0] / len, d[1] / len] : [1, 0];
+  const len = Math.hypot(...d) || 1;
+  return [(d[0] / len) * ARROW_PX * unit(), (d[1] / len) * ARROW_PX * unit()];
 }
 
 function setKind(i, kind) {
@@ -174,8 +197,7 @@ function setKind(i, kind) {
   pushHistory();
   state.kinds[i] = kind;
   if (kind === 'clamped') {
-    const [dx, dy] = currentDirection(i);
-    state.tangents[i] = [dx * ARROW_PX * unit(), dy * ARROW_PX * unit()];
+    state.tangents[i] = currentArrow(i);
   } else {
     state.tangents[i] = null;
   }
@@ -397,7 +419,7 @@ function requestBody(method, options) {
   const body = { points: state.points, closed: state.closed, alpha: state.alpha, method };
   if (state.kinds.some((k) => k !== 'smooth')) {
     body.kinds = state.kinds;
-    body.tangents = state.tangents;
+    body.tangents = state.tangents.map(arrowToTangent);
   }
   if (options && Object.keys(options).length) body.options = options;
   return body;
@@ -996,7 +1018,9 @@ function importText(text, source) {
     el.method.value = state.method;
     buildOptionsForm();
   }
-  replacePoints(parsed.points, parsed.kinds, parsed.tangents);
+  replacePoints(parsed.points, parsed.kinds);
+  // A file gives tangents (derivatives); the editor keeps arrows (see knotSpan).
+  if (parsed.tangents) state.tangents = parsed.tangents.map((t, i) => (state.kinds[i] === 'clamped' ? tangentToArrow(t, i) : null));
   fitView();
 }
 
@@ -1026,11 +1050,10 @@ el.undo.addEventListener('click', undo);
 el.redo.addEventListener('click', redo);
 
 /** Replaces all points and forgets every fit of the old ones. */
-function replacePoints(points, kinds = null, tangents = null) {
+function replacePoints(points, kinds = null) {
   state.points = points;
   state.kinds = kinds ?? Array(points.length).fill('smooth');
-  state.tangents = tangents ?? Array(points.length).fill(null);
-  state.tangents = state.tangents.map((t, i) => (state.kinds[i] === 'clamped' ? t : null));
+  state.tangents = Array(points.length).fill(null);
   state.selected = -1;
   mainFit = null;
   mainError = null;
