@@ -1,0 +1,19 @@
+"""fairspline: fair cubic Bézier splines through planar points.
+
+    >>> import fairspline
+    >>> curve = fairspline.fit([(1, 90), (3, 105), (6, 120), (10, 100)], method="li-strain")
+    >>> curve.segments.shape            # (pieces, 4 control points, xy)
+    (3, 4, 2)
+    >>> xy = curve.evaluate(curve.knots)  # the input points again
+
+fit() and fit_many() run the C++ library with the GIL released; methods() lists the registered
+methods with their option schemas; plot() draws a Curve with Matplotlib. Errors raise
+fairspline.Error, a ValueError with .code (e.g. "repeated_point") and .index (the offending
+point). The compiled part is fairspline._core; its docstrings come from the C++ headers.
+"""
+
+from ._core import DEFAULT_METHOD, Curve, Error, __version__, fit, fit_many, methods
+from .plot import plot
+
+__all__ = ["Curve", "DEFAULT_METHOD", "Error", "fit", "fit_many", "methods", "plot",
+           "__version__"]
