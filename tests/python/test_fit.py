@@ -1,0 +1,229 @@
+"""fairspline.fit and Curve: the same numbers as the CLI, and a curve that is what it says."""
+
+import json
+import math
+import pickle
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline
+
+import fairspline
+from conftest import EXAMPLE, bezier_derivatives, example_points, input_json, random_walk
+
+# (method, CLI flags, Python keyword arguments): every method on the bundled example.
+CASES = [
+    ("quasi-elastic", [], {}),
+    ("quasi-elastic", ["--closed", "--alpha", "1"], {"closed": True, "alpha": 1.0}),
+    ("min-energy", ["--set", "basis=jaklic-zagar", "--set", "omega_deg=85"],
+     {"basis": "jaklic-zagar", "omega_deg": 85}),
+    ("cond-g2", ["--set", "lambda=0.5"], {"options": {"lambda": 0.5}}),
+    ("li-strain", ["--alpha", "0"], {"alpha": 0.0}),
+    ("li-strain", ["--closed"], {"closed": True}),
+    ("li-combined", [], {}),
+    ("li-curvature-variation", ["--start-tangent", "1,2"], {"start_tangent": (1, 2)}),
+    ("jaklic-zagar", ["--set", "lambda=bisector"], {"options": {"lambda": "bisector"}}),
+    ("yong-cheng", ["--set", "tangents_from=jaklic-zagar"], {"tangents_from": "jaklic-zagar"}),
+    ("kozak-krajnc", ["--set", "gamma=auto"], {"gamma": "auto"}),
+]
+CASE_IDS = ["{}-{}".format(m, i) for i, (m, _, _) in enumerate(CASES)]
+
+
+@pytest.mark.parametrize("method,flags,kwargs", CASES, ids=CASE_IDS)
+def test_same_json_as_cli(cli, method, flags, kwargs):
+    text = cli.fit_json(EXAMPLE, "-m", method, *flags)
+    curve = fairspline.fit(example_points(), method, **kwargs)
+    # The JSON contract: byte for byte what `fairspline fit -f json` writes.
+    assert curve.to_json() + "\n" == text
+    doc = json.loads(text)
+    expected = np.array([s["bezier"] for s in doc["segments"]])
+    assert curve.segments.shape == expected.shape
+    assert np.array_equal(curve.segments, expected)  # exactly, not approximately
+    assert np.array_equal(curve.segment_ranges, [[s["t0"], s["t1"]] for s in doc["segments"]])
+    assert np.array_equal(curve.spans, [s["span"] for s in doc["segments"]])
+    assert np.array_equal(curve.knots, doc["knots"])
+    assert np.array_equal(curve.tangents, doc["tangents"])
+    assert np.array_equal(curve.points, doc["points"])
+    assert curve.report == doc["report"]
+    assert curve.method_report == doc["method_report"]
+    assert curve.options == doc["options"]
+    assert curve.method == doc["method"] and curve.closed == doc["closed"]
+
+
+def test_to_json_indent_and_report_levels(cli):
+    assert (fairspline.fit(example_points()).to_json(indent=2) + "\n" ==
+            cli.run("fit", EXAMPLE, "-f", "json", "--indent", "2"))
+    none = fairspline.fit(example_points(), report="none")
+    assert none.report is None
+    assert none.to_json() + "\n" == cli.fit_json(EXAMPLE, "--report", "none")
+    basic = fairspline.fit(example_points(), report="basic")
+    assert basic.report["bending_energy"] is None and basic.report["linearized_energy"] > 0
+    assert basic.to_json() + "\n" == cli.fit_json(EXAMPLE, "--report", "basic")
+
+
+def test_hermite_input_fields_match_cli(cli):
+    pts = [[0, 0], [1, 1], [2, 0], [3, 1], [4, 0]]
+    tangents = [[1, 1], None, [1, -1], [1, -1], None]
+    kinds = ["smooth", "smooth", "corner", "clamped", "smooth"]
+    knots = [0.0, 1.0, 2.5, 3.0, 4.5]
+    text = cli.fit_json("-", "-m", "quasi-elastic", stdin=input_json(
+        pts, tangents=tangents, kinds=kinds, knots=knots))
+    curve = fairspline.fit(pts, tangents=tangents, kinds=kinds, knots=knots)
+    assert curve.to_json() + "\n" == text
+    assert np.array_equal(curve.knots, knots)
+    # The corner splits the curve; the clamped tangent at point 3 is kept.
+    assert np.allclose(curve.tangents[3], [1 / math.sqrt(2), -1 / math.sqrt(2)])
+
+
+@pytest.mark.parametrize("svg_options,flags", [
+    ({}, []),
+    ({"comb": True, "control_polygon": 1, "width": 1000}, ["--set", "svg.comb=1", "--set",
+                                                           "svg.control_polygon=1", "--set",
+                                                           "svg.width=1000"]),
+])
+def test_to_svg_same_as_cli(cli, svg_options, flags):
+    curve = fairspline.fit(example_points())
+    assert curve.to_svg(**svg_options) == cli.run("fit", EXAMPLE, "-f", "svg", *flags)
+
+
+def test_evaluate_at_knots_gives_the_points():
+    for closed in (False, True):
+        for method in ("quasi-elastic", "li-strain", "jaklic-zagar", "li-combined"):
+            pts = random_walk(40, 7)
+            curve = fairspline.fit(pts, method, closed=closed)
+            expected = np.vstack((pts, pts[:1])) if closed else pts
+            got = curve.evaluate(curve.knots)
+            assert got.shape == expected.shape
+            scale = np.ptp(pts, axis=0).max()
+            assert np.max(np.abs(got - expected)) <= 1e-13 * scale, (method, closed)
+
+
+def test_evaluate_shapes_and_range():
+    curve = fairspline.fit(example_points())
+    t0, t1 = curve.t_range
+    assert (t0, t1) == (curve.knots[0], curve.knots[-1])
+    assert curve.evaluate(t0).shape == (2,)
+    assert curve.evaluate(np.linspace(t0, t1, 12).reshape(3, 4)).shape == (3, 4, 2)
+    assert curve.derivative([t0, t1], order=2).shape == (2, 2)
+    assert isinstance(curve.curvature(t0), float)
+    assert curve.curvature(np.full((2, 5), t1)).shape == (2, 5)
+    assert curve.evaluate(np.empty(0)).shape == (0, 2)
+    # Outside the range (or NaN): an error naming the flat position of the first bad t.
+    for bad, index in (([t0, t1 + 1e-9], 1), ([[t0, t0], [np.nan, t1]], 2), (t0 - 1, 0)):
+        with pytest.raises(fairspline.Error) as e:
+            curve.evaluate(bad)
+        assert e.value.code == "invalid_argument" and e.value.index == index
+    with pytest.raises(fairspline.Error):
+        curve.curvature(t1 * 2)
+    with pytest.raises(fairspline.Error) as e:
+        curve.derivative(t0, order=4)
+    assert e.value.code == "invalid_argument"
+
+
+def interior_parameters(curve, per_piece, rng):
+    """Random parameters strictly inside the pieces (away from joints by 5% of a piece)."""
+    r = curve.segment_ranges
+    u = rng.uniform(0.05, 0.95, (len(r), per_piece))
+    return (r[:, :1] + u * (r[:, 1:] - r[:, :1])).ravel()
+
+
+@pytest.mark.parametrize("method", ["quasi-elastic", "jaklic-zagar", "li-combined",
+                                    "kozak-krajnc"])
+def test_derivatives_match_finite_differences(method):
+    rng = np.random.default_rng(3)
+    pts = example_points()
+    curve = fairspline.fit(pts, method)
+    t = interior_parameters(curve, 7, rng)
+    h = 1e-5 * (curve.t_range[1] - curve.t_range[0])
+    for order in (1, 2, 3):
+        lower = curve.evaluate(t - h) if order == 1 else curve.derivative(t - h, order - 1)
+        upper = curve.evaluate(t + h) if order == 1 else curve.derivative(t + h, order - 1)
+        fd = (upper - lower) / (2 * h)
+        d = curve.derivative(t, order)
+        scale = np.abs(d).max()
+        assert np.max(np.abs(d - fd)) <= 1e-6 * scale, (method, order)
+
+
+@pytest.mark.parametrize("method", ["quasi-elastic", "yong-cheng", "li-strain"])
+def test_curvature_from_control_points(method):
+    rng = np.random.default_rng(5)
+    pts = random_walk(30, 11, turn=1.2)
+    curve = fairspline.fit(pts, method, options={"tangents_from": "jaklic-zagar"}
+                           if method == "yong-cheng" else None)
+    t = np.concatenate((interior_parameters(curve, 5, rng), curve.segment_ranges[:, 0]))
+    # Which piece holds t (joints belong to the later piece) and its local parameter u.
+    r = curve.segment_ranges
+    k = np.searchsorted(r[:, 1], t, side="right").clip(max=len(r) - 1)
+    u = (t - r[k, 0]) / (r[k, 1] - r[k, 0])
+    _, d1, d2 = bezier_derivatives(curve.segments[k], u)
+    expected = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.hypot(d1[:, 0], d1[:, 1])**3
+    got = curve.curvature(t)
+    assert np.allclose(got, expected, rtol=1e-10, atol=1e-12 * np.abs(expected).max())
+    # Curvature is parameterization-independent: the same from the global derivatives.
+    c1, c2 = curve.derivative(t, 1), curve.derivative(t, 2)
+    global_kappa = (c1[:, 0] * c2[:, 1] - c1[:, 1] * c2[:, 0]) / np.hypot(c1[:, 0], c1[:, 1])**3
+    assert np.allclose(got, global_kappa, rtol=1e-9, atol=1e-12 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("closed", [False, True])
+@pytest.mark.parametrize("alpha", [0.0, 0.5, 1.0])
+def test_li_strain_is_scipy_natural_spline(closed, alpha):
+    pts = random_walk(60, 21)
+    curve = fairspline.fit(pts, "li-strain", closed=closed, alpha=alpha)
+    knots = curve.knots
+    values = np.vstack((pts, pts[:1])) if closed else pts
+    peer = CubicSpline(knots, values, bc_type="periodic" if closed else "natural")
+    rng = np.random.default_rng(1)
+    t = np.concatenate((knots, rng.uniform(knots[0], knots[-1], 500)))
+    scale = np.ptp(pts, axis=0).max()
+    assert np.max(np.abs(curve.evaluate(t) - peer(t))) <= 1e-10 * scale
+    slope = np.max(np.hypot(*np.diff(values, axis=0).T) / np.diff(knots))
+    assert np.max(np.abs(curve.derivative(t) - peer(t, 1))) <= 1e-9 * slope
+
+
+def test_sample():
+    curve = fairspline.fit(example_points(), "jaklic-zagar")
+    s = curve.sample(101)
+    assert s.shape == (101, 2)
+    t0, t1 = curve.t_range
+    assert np.array_equal(s[[0, -1]], curve.evaluate([t0, t1]))
+    assert np.allclose(s, curve.evaluate(np.linspace(t0, t1, 101)), rtol=0, atol=1e-12)
+    with pytest.raises(fairspline.Error):
+        curve.sample(1)
+
+
+def test_pickle_round_trip():
+    for method, kw in (("quasi-elastic", {}), ("kozak-krajnc", {}), ("li-strain",
+                                                                        {"report": "none"})):
+        curve = fairspline.fit(example_points(), method, **kw)
+        copy = pickle.loads(pickle.dumps(curve))
+        assert copy.to_json() == curve.to_json()
+        assert np.array_equal(copy.evaluate(copy.knots), curve.evaluate(curve.knots))
+    looped = fairspline.fit([[0, 0], [2, 0], [2, 2], [1, -1], [0, 2]], "li-strain")
+    assert pickle.loads(pickle.dumps(looped)).to_json() == looped.to_json()
+
+
+def test_methods_is_the_registry(cli):
+    listed = fairspline.methods()
+    assert listed == json.loads(cli.run("methods", "--json"))
+    names = [m["name"] for m in listed]
+    assert fairspline.DEFAULT_METHOD in names and "li-strain" in names
+    jz = next(m for m in listed if m["name"] == "jaklic-zagar")
+    assert {o["name"] for o in jz["options"]} >= {"lambda", "lambdas"}
+    assert all({"name", "type", "default", "doc"} <= set(o) for m in listed
+               for o in m["options"])
+
+
+def test_options_from_numpy_values_and_options_dict():
+    pts = example_points()
+    a = fairspline.fit(pts, "jaklic-zagar", lambdas=np.full(len(pts), 0.25))
+    b = fairspline.fit(pts, "jaklic-zagar", options={"lambdas": [0.25] * len(pts)})
+    assert a.to_json() == b.to_json()
+    assert a.options["lambdas"] == [0.25] * len(pts)
+    c = fairspline.fit(pts, "quasi-elastic", max_iterations=np.int64(50), omega_deg=np.float32(89.5))
+    assert c.options["max_iterations"] == 50 and c.options["omega_deg"] == 89.5
+
+
+def test_repr():
+    curve = fairspline.fit(example_points(), closed=True)
+    assert repr(curve) == "<fairspline.Curve method='quasi-elastic' points=7 segments=7 closed>"
