@@ -334,8 +334,12 @@ TEST_F(CliBatch, RecordsEqualFitOutput) {
                              report + " -o " + quote((dir_ / "batch.jsonl").string()));
     ASSERT_EQ(batch.exit_code, 0) << batch.err;
     EXPECT_EQ(batch.out, "");  // written to -o
-    std::vector<json> records = parse_lines(slurp(dir_ / "batch.jsonl"));
+    const std::string batch_text = slurp(dir_ / "batch.jsonl");
+    std::vector<json> records = parse_lines(batch_text);
     ASSERT_EQ(records.size(), requests.size());
+    std::vector<std::string> raw;
+    std::istringstream lines(batch_text);
+    for (std::string l; std::getline(lines, l);) raw.push_back(l + "\n");
     for (std::size_t i = 0; i < requests.size(); ++i) {
       const fs::path one = file("one.json", requests[i].dump());
       const CliRun fit = run("fit " + quote(one.string()) + " --report " + report);
@@ -354,6 +358,13 @@ TEST_F(CliBatch, RecordsEqualFitOutput) {
       }
       got.erase("line");
       EXPECT_EQ(got, expected) << requests[i]["method"];
+      // Byte for byte too: the record is fit's output with "line" inserted in key order.
+      const std::string line_key = ",\"line\":" + std::to_string(i + 1);
+      const auto at = raw[i].find(line_key);
+      ASSERT_NE(at, std::string::npos) << raw[i];
+      EXPECT_TRUE(raw[i].substr(0, at) + raw[i].substr(at + line_key.size()) == fit.out)
+          << requests[i]["method"] << "\n"
+          << raw[i] << fit.out;
       EXPECT_TRUE(expected.contains("report"));
     }
   }
