@@ -69,10 +69,16 @@ std::string choices_text(const OptionSpec& spec) {
   return s;
 }
 
+/// A user's value for a message: strings from a command line may be invalid UTF-8, which
+/// json::dump refuses (the message would then be an exception of its own).
+std::string shown(const nlohmann::json& v) {
+  return v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 [[noreturn]] void bad(const std::string& method, const OptionSpec& spec, const nlohmann::json& v,
                       const std::string& expected) {
   throw Error(ErrorCode::kBadOption, "option '" + spec.name + "' of " + method + " must be " +
-                                         expected + ", got " + v.dump());
+                                         expected + ", got " + shown(v));
 }
 
 bool number_ok(const OptionSpec& spec, double x) {
@@ -131,7 +137,7 @@ nlohmann::json check_value(const std::string& method, const OptionSpec& spec,
 
 nlohmann::json resolve_options(const MethodInfo& method, const nlohmann::json& given) {
   if (!given.is_null() && !given.is_object()) {
-    throw Error(ErrorCode::kBadOption, "options must be a JSON object, got " + given.dump());
+    throw Error(ErrorCode::kBadOption, "options must be a JSON object, got " + shown(given));
   }
   nlohmann::json out = nlohmann::json::object();
   if (given.is_object()) {

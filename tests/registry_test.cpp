@@ -57,6 +57,17 @@ TEST(Registry, OptionTypeChecks) {
   EXPECT_THROW(resolve_options(m, {{"lam", 1.5}}), Error);
 }
 
+// A string option from the command line (--set key=VALUE) may be invalid UTF-8: the message
+// quoting it used json::dump, which threw a type_error instead of the promised Error.
+TEST(Registry, BadOptionWithInvalidUtf8GivesAnError) {
+  try {
+    resolve_options(find_method("jaklic-zagar"), {{"reversal", "\xff"}});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kBadOption);
+  }
+}
+
 TEST(Registry, SchemaJson) {
   const auto s = method_schema(find_method("li-combined"));
   EXPECT_EQ(s.at("name"), "li-combined");

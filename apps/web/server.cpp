@@ -17,8 +17,14 @@ namespace fairspline::web {
 
 namespace {
 
+// Messages quote the request (a bad field, a bad option value), which need not be valid UTF-8:
+// bodies are written with invalid bytes replaced, so that writing an answer never throws.
+std::string dump(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 ApiResponse error_response(int status, const Error& e) {
-  return {status, io::error_to_json(e).dump()};
+  return {status, dump(io::error_to_json(e))};
 }
 
 ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& options) {
@@ -35,14 +41,14 @@ ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& optio
     }
     const std::string method = parsed.method ? *parsed.method : std::string(default_method_name());
     const FitResult result = fit(method, parsed.input, parsed.options, ReportLevel::kFull);
-    return {200, io::to_json(result).dump()};
+    return {200, io::write_json(result)};
   } catch (const Error& e) {
     return error_response(400, e);
   } catch (const std::exception& e) {
     // Not a user error: report it without bringing the server down.
-    return {500, nlohmann::json{{"error",
-                                 {{"code", "internal"}, {"message", e.what()}, {"index", nullptr}}}}
-                     .dump()};
+    return {500,
+            dump(nlohmann::json{
+                {"error", {{"code", "internal"}, {"message", e.what()}, {"index", nullptr}}}})};
   }
 }
 

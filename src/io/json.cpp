@@ -66,6 +66,24 @@ bool is_comment_key(const std::string& key) {
   return !key.empty() && (key[0] == '_' || key[0] == '$');
 }
 
+/// `s` with every byte outside ASCII written as \xNN: nlohmann's syntax errors quote the bytes
+/// last read, which may be invalid UTF-8, and the message must stay writable as JSON.
+std::string ascii_only(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x80) {
+      out += c;
+    } else {
+      constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 15];
+    }
+  }
+  return out;
+}
+
 /// "line L, column C" of a byte offset.
 std::pair<std::size_t, std::size_t> line_column(std::string_view text, std::size_t byte) {
   std::size_t line = 1, col = 1;
@@ -188,7 +206,8 @@ ParsedInput parse_json_input(std::string_view text) {
     std::string what = e.what();
     // Keep the reason after nlohmann's "[json.exception.parse_error.101] parse error at ...: ".
     const auto colon = what.find(": ");
-    std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
+    const std::string reason =
+        ascii_only(colon == std::string::npos ? what : what.substr(colon + 2));
     parse_fail("invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(col) +
                    " (byte " + std::to_string(e.byte) + "): " + reason,
                line);

@@ -168,6 +168,16 @@ TEST(JsonInput, SyntaxErrorGivesLineAndColumn) {
   EXPECT_EQ(utf8.code(), ErrorCode::kParseError);
 }
 
+// Found by fuzz_json (tests/fuzz/corpus/fuzz_json/bad-utf8-outside.json): nlohmann's syntax
+// error quotes the bytes last read, and a message with invalid UTF-8 made error_to_json(e).dump()
+// throw, so the web server answered a bad byte with an exception instead of a 400.
+TEST(JsonInput, SyntaxErrorQuotingInvalidUtf8IsWritableAsJson) {
+  const Error e = expect_error([] { parse_json_input("{\"points\": \xff\xfe}"); });
+  EXPECT_EQ(e.code(), ErrorCode::kParseError);
+  EXPECT_NE(std::string(e.what()).find("\\xff"), std::string::npos) << e.what();
+  EXPECT_NO_THROW((void)error_to_json(e).dump());
+}
+
 TEST(JsonInput, DeepNestingIsRejectedWithoutCrashing) {
   const std::string deep =
       "{\"points\": " + std::string(100000, '[') + std::string(100000, ']') + "}";

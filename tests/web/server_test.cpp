@@ -79,7 +79,8 @@ TEST(WebApi, BadRequestsAre400WithTheLibrarysMessage) {
        "invalid_argument", nullptr},  // more than max_points
       {R"({"points": [[0,0],[1,0],[0.2,0.3],[0,1]], "method": "min-energy",
           "options": {"basis": "yong-cheng"}})",
-       "infeasible", 1},  // a stencil angle beyond 2Ω = 120°
+       "infeasible", 1},                         // a stencil angle beyond 2Ω = 120°
+      {"{\"points\": \xff}", "parse_error", 1},  // invalid UTF-8 quoted in the message (fuzz)
   };
   for (const Case& c : cases) {
     const ApiResponse r = handle_fit(c.body, opt);
