@@ -50,6 +50,16 @@ def test_same_json_as_cli(cli, method, flags, kwargs):
     assert curve.method == doc["method"] and curve.closed == doc["closed"]
 
 
+def test_self_intersecting_report_same_as_cli(cli):
+    pts = [[0, 0], [2, 0], [2, 2], [1, -1], [0, 2]]
+    for method in ("li-strain", "jaklic-zagar"):
+        doc = json.loads(cli.fit_json("-", "-m", method, stdin=input_json(pts)))
+        curve = fairspline.fit(pts, method)
+        assert len(curve.report["intersections"]) == 2
+        assert curve.report == doc["report"]
+        assert isinstance(curve.report["intersections"][0]["segment_a"], int)
+
+
 def test_to_json_indent_and_report_levels(cli):
     assert (fairspline.fit(example_points()).to_json(indent=2) + "\n" ==
             cli.run("fit", EXAMPLE, "-f", "json", "--indent", "2"))
