@@ -52,11 +52,25 @@ def load_polylines(path):
     return np.split(np.asarray(data["points"], dtype=float), ends[:-1])
 
 
-def fit_partition(curves, method, options, report, threads):
-    """Runs on a worker: fits one partition and returns compact arrays (cheap to send back)."""
+def pack(curves):
+    """A partition as two arrays, (total, 2) points and the lengths: serializing a few large
+    arrays is ~40x faster than a list of many small ones."""
+    lengths = np.array([len(c) for c in curves], dtype=np.int64)
+    points = (np.concatenate([np.asarray(c, dtype=float).reshape(-1, 2) for c in curves])
+              if curves else np.empty((0, 2)))
+    return points, lengths
+
+
+def unpack(points, lengths):
+    return np.split(points, np.cumsum(lengths)[:-1]) if len(lengths) else []
+
+
+def fit_partition(points, lengths, method, options, report, threads):
+    """Runs on a worker: fits one packed partition with fairspline.fit_many and returns compact
+    arrays (cheap to send back)."""
     import fairspline  # noqa: F811 (resolved on the worker)
 
-    fitted = fairspline.fit_many(curves, method, threads=threads, report=report,
+    fitted = fairspline.fit_many(unpack(points, lengths), method, threads=threads, report=report,
                                  errors="return", **options)
     counts = np.zeros(len(fitted), dtype=np.int64)
     energy = np.full(len(fitted), np.nan)
@@ -74,25 +88,22 @@ def fit_partition(curves, method, options, report, threads):
             energy[i] = c.report["linearized_energy"]
     segments = np.concatenate(pieces) if pieces else np.empty((0, 4, 2))
     return {"counts": counts, "segments": segments, "linearized_energy": energy,
-            "errors": np.array(errors, dtype=object)}
+            "errors": np.array(errors, dtype="U32")}
 
 
 def merge(parts):
-    return {
-        "counts": np.concatenate([p["counts"] for p in parts]),
-        "segments": np.concatenate([p["segments"] for p in parts]),
-        "linearized_energy": np.concatenate([p["linearized_energy"] for p in parts]),
-        "errors": np.concatenate([p["errors"] for p in parts]).astype(str),
-    }
+    return {key: np.concatenate([p[key] for p in parts])
+            for key in ("counts", "segments", "linearized_energy", "errors")}
 
 
 def fit_on_cluster(client, curves, method, options, report, partitions, fit_threads):
     """Partitions by curve, scatters the partitions to the workers, fits, gathers in order."""
     bounds = np.linspace(0, len(curves), partitions + 1).astype(int)
-    chunks = [curves[a:b] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
-    data = client.scatter(chunks)  # the polylines go to the workers once, not in the graph
-    futures = client.map(fit_partition, data, method=method, options=options, report=report,
-                         threads=fit_threads, pure=False)
+    packed = [pack(curves[a:b]) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+    points = client.scatter([p for p, _ in packed])  # the data go to the workers once,
+    lengths = client.scatter([n for _, n in packed])  # not inside the task graph
+    futures = client.map(fit_partition, points, lengths, method=method, options=options,
+                         report=report, threads=fit_threads, pure=False)
     return merge(client.gather(futures))
 
 
@@ -201,13 +212,13 @@ def main(argv=None):
 
     if args.check:
         t = time.perf_counter()
-        local = fit_partition(curves, args.method, options, args.report, 0)
+        local = fit_partition(*pack(curves), args.method, options, args.report, 0)
         seconds = time.perf_counter() - t
         same = (np.array_equal(local["counts"], result["counts"]) and
                 np.array_equal(local["segments"], result["segments"]) and
                 np.array_equal(local["linearized_energy"], result["linearized_energy"],
                                equal_nan=True) and
-                np.array_equal(local["errors"].astype(str), result["errors"]))
+                np.array_equal(local["errors"], result["errors"]))
         print("check: single process fit_many in {:.3f} s; results {}".format(
             seconds, "identical" if same else "DIFFER"))
         if not same:
