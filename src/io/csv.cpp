@@ -199,7 +199,12 @@ std::vector<Point> parse_csv_points(std::string_view text) {
     bool any_number = false;
     for (std::size_t k = 0; k < fields.size(); ++k) {
       double v = 0.0;
-      const bool is_num = parse_number(fields[k], v, prefix + "coordinate", line_no);
+      // A non-finite coordinate names the point (index = its 0-based number, as everywhere
+      // else a point is at fault) and the line.
+      const bool is_num = parse_number(fields[k], v,
+                                       "line " + std::to_string(line_no) + " (point " +
+                                           std::to_string(points.size()) + "): coordinate",
+                                       points.size());
       any_number = any_number || is_num;
       if (k < 2) xy[k] = v;
       ok = ok && is_num;

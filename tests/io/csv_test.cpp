@@ -97,13 +97,13 @@ TEST(CsvParse, OnlyATwoColumnTextLineIsAHeader) {
   EXPECT_EQ(parse_csv_points("Longitude;Latitude\n1;2\n"), pts({{1, 2}}));
 }
 
-TEST(CsvParse, NonFiniteTextNamesTheLine) {
+TEST(CsvParse, NonFiniteTextNamesTheLineAndThePoint) {
   for (const char* bad : {"nan", "NaN", "inf", "-Infinity", "1e999", "-1e400"}) {
     const std::string text = "x,y\n1,2\n3," + std::string(bad) + "\n";
     const Error e = expect_error([&] { parse_csv_points(text); });
     EXPECT_EQ(e.code(), ErrorCode::kNonFinite) << bad;
-    EXPECT_EQ(e.index(), 3u) << bad;
-    EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+    EXPECT_EQ(e.index(), 1u) << bad;  // the second point (the CLI says "at point 1")
+    EXPECT_NE(std::string(e.what()).find("line 3 (point 1)"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
   }
 }

@@ -16,9 +16,10 @@ namespace fairspline::io {
 /// Parses points from CSV text: one `x,y` per line. Tolerated: an optional header line (a first
 /// content line none of whose fields is a number), `#` comments (whole-line or trailing), blank
 /// lines, surrounding whitespace, CRLF line ends, and `;` or whitespace as separator instead of
-/// `,`. Errors (index = 1-based line number):
-///   kParseError  "line 7: expected two numbers 'x,y', got 'abc'"
-///   kNonFinite   "line 3: coordinate 'nan' is not finite" (NaN, Inf, or overflowing text)
+/// `,`. Errors:
+///   kParseError  "line 7: expected two numbers 'x,y', got 'abc'"  (index = 1-based line)
+///   kNonFinite   "line 3 (point 1): coordinate 'nan' is not finite" (NaN, Inf, or overflowing
+///                text; index = the 0-based point)
 std::vector<Point> parse_csv_points(std::string_view text);
 
 /// Reads a file and parses it with parse_csv_points; kIoError when it cannot be read.
