@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -397,6 +398,64 @@ TEST_F(CliBatch, ProgressOnlyOnATerminal) {
   ASSERT_EQ(quiet.exit_code, 0);
   EXPECT_EQ(quiet.err, "");
   EXPECT_TRUE(quiet.out == plain.out);
+}
+
+/// Reads from `fd` into `text` until it holds `lines` complete lines; false after `seconds`
+/// without them, or at the end of the output.
+bool read_lines(int fd, std::string& text, std::size_t lines, int seconds) {
+  for (int waited = 0;
+       static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) < lines;) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 100) == 0) {
+      if (++waited > seconds * 10) return false;
+      continue;
+    }
+    char buf[4096];
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n <= 0) return false;
+    text.append(buf, static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+TEST_F(CliBatch, StreamsRecordsWhileTheInputIsStillOpen) {
+  // A producer that sends one line and waits: the record must come out before more input (or
+  // the end of it) arrives, instead of waiting for a whole block. The 60 s is a guard against
+  // hanging, not a timing check.
+  int in[2], out[2];
+  ASSERT_EQ(::pipe(in), 0);
+  ASSERT_EQ(::pipe(out), 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(in[0], STDIN_FILENO);
+    ::dup2(out[1], STDOUT_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDERR_FILENO);
+    for (int fd : {in[0], in[1], out[0], out[1], null}) ::close(fd);
+    ::execl(FAIRSPLINE_CLI, "fairspline", "batch", "--report", "none", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  ::close(out[1]);
+  const std::string first = walk_request(5, 1).dump() + "\n# comment\n";
+  ASSERT_EQ(::write(in[1], first.data(), first.size()), static_cast<ssize_t>(first.size()));
+  std::string text;
+  const bool streamed = read_lines(out[0], text, 1, 60);
+  const std::string second = walk_request(6, 2).dump() + "\n";
+  EXPECT_EQ(::write(in[1], second.data(), second.size()), static_cast<ssize_t>(second.size()));
+  ::close(in[1]);
+  read_lines(out[0], text, 2, 60);
+  ::close(out[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_TRUE(streamed) << "no record before the end of the input";
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const std::vector<json> records = parse_lines(text);
+  ASSERT_EQ(records.size(), 2u) << text;
+  EXPECT_EQ(records[0]["line"], 1);
+  EXPECT_EQ(records[0]["segments"].size(), 4u);
+  EXPECT_EQ(records[1]["line"], 3);
+  EXPECT_EQ(records[1]["segments"].size(), 5u);
 }
 
 TEST_F(CliBatch, UsageAndIoErrorsExitTwo) {

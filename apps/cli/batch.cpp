@@ -10,6 +10,7 @@
 #include "batch.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -49,6 +50,8 @@ constexpr std::size_t kBlockLines = 4096;
 /// A block stops growing once its input text reaches this size (a longer line is still read
 /// whole).
 constexpr std::size_t kBlockBytes = std::size_t{8} << 20;
+/// A record's string keeps its memory for the next block unless it grew past this.
+constexpr std::size_t kKeepRecordCapacity = std::size_t{1} << 20;
 /// Redraw interval of the progress line.
 constexpr auto kRedrawInterval = std::chrono::milliseconds(200);
 
@@ -62,6 +65,15 @@ std::string system_error_text(int err) {
 class LineReader {
  public:
   LineReader(int fd, std::string name) : fd_(fd), name_(std::move(name)), buf_(1 << 20) {}
+
+  /// True when the next read would wait for a writer (a pipe or terminal with nothing
+  /// buffered): the lines already read are then fitted first, so that a slow producer does not
+  /// hold back records until a whole block has arrived.
+  bool would_wait() const {
+    if (pos_ != end_ || eof_) return false;
+    pollfd p{fd_, POLLIN, 0};
+    return ::poll(&p, 1, 0) == 0;
+  }
 
   /// Appends the next line to `out` (without its '\n' or a '\r' before it) and sets `raw` to
   /// the bytes it took in the input; returns false at the end of the input.
@@ -176,6 +188,7 @@ void read_block(LineReader& reader, std::size_t max_lines, std::size_t& line_num
   block.lines.clear();
   block.skipped_bytes = 0;
   while (block.lines.size() < max_lines && block.text.size() < kBlockBytes) {
+    if (!block.lines.empty() && reader.would_wait()) return;
     const std::size_t start = block.text.size();
     std::size_t raw = 0;
     if (!reader.next(block.text, raw)) {
@@ -220,6 +233,11 @@ class Output {
 
   void write(const std::string& text) {
     if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) fail();
+  }
+
+  /// Hands what is buffered to the file or pipe.
+  void flush() {
+    if (std::fflush(file_) != 0) fail();
   }
 
   /// Flushes (and closes a file), reporting any error of the writes before.
@@ -512,7 +530,11 @@ int run_batch(const BatchArgs& args) {
       if (f != 0) failed.fetch_add(f, std::memory_order_relaxed);
       if (progress) progress->add(per_line, line.raw_bytes);
     });
-    for (const std::string& r : records) output.write(r);
+    for (std::string& r : records) {
+      output.write(r);
+      if (r.capacity() > kKeepRecordCapacity) std::string().swap(r);  // after a huge record
+    }
+    if (reader.would_wait()) output.flush();  // a reader downstream gets what there is
     total += records.size();
   }
   output.finish();
