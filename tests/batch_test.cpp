@@ -28,6 +28,16 @@ TEST(Batch, ParallelForVisitsEveryIndexOnce) {
   }
 }
 
+TEST(Batch, ParallelForWithNoItemsOrMoreThreadsThanItems) {
+  int calls = 0;
+  parallel_for(0, 4, [&](std::size_t) { ++calls; });
+  EXPECT_EQ(calls, 0);
+  std::vector<std::atomic<int>> seen(3);
+  parallel_for(seen.size(), 8, [&](std::size_t i) { seen[i].fetch_add(1); });
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i].load(), 1) << i;
+  EXPECT_TRUE(fit_many({}, {}).empty());
+}
+
 TEST(Batch, ParallelForRethrowsTheFirstFailure) {
   EXPECT_THROW(parallel_for(1000, 2,
                             [](std::size_t i) {
@@ -83,6 +93,50 @@ TEST(Batch, FitManyEqualsFitOneByOneInInputOrder) {
       }
     }
   }
+}
+
+TEST(Batch, FitManyGivesTheSameResultsForAnyThreadCount) {
+  std::vector<BatchJob> jobs;
+  for (std::uint64_t seed = 0; seed < 300; ++seed) {
+    BatchJob job;
+    job.input.points = testing::random_walk(3 + seed % 40, seed + 1000, 100);
+    job.input.closed = seed % 5 == 0;
+    job.method = seed % 2 == 0 ? "jaklic-zagar" : "quasi-elastic";
+    if (seed % 50 == 7) job.input.points[1] = job.input.points[0];  // repeated point
+    jobs.push_back(job);
+  }
+  BatchOptions options;
+  options.level = ReportLevel::kBasic;
+  options.threads = 1;
+  const std::vector<BatchOutcome> one = fit_many(jobs, options);
+  for (unsigned threads : {2u, 3u, 0u}) {
+    options.threads = threads;
+    const std::vector<BatchOutcome> other = fit_many(jobs, options);
+    ASSERT_EQ(other.size(), one.size());
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      ASSERT_EQ(other[i].error.has_value(), one[i].error.has_value()) << threads << " " << i;
+      if (one[i].error) {
+        EXPECT_EQ(other[i].error->code(), ErrorCode::kRepeatedPoint);
+        EXPECT_EQ(other[i].error->index(), one[i].error->index());
+        continue;
+      }
+      const FitResult& a = *one[i].result;
+      const FitResult& b = *other[i].result;
+      ASSERT_EQ(b.spline.segments.size(), a.spline.segments.size()) << i;
+      for (std::size_t s = 0; s < a.spline.segments.size(); ++s) {
+        for (int k = 0; k < 4; ++k) {
+          EXPECT_EQ(b.spline.segments[s].bezier.p[k].x, a.spline.segments[s].bezier.p[k].x);
+          EXPECT_EQ(b.spline.segments[s].bezier.p[k].y, a.spline.segments[s].bezier.p[k].y);
+        }
+      }
+      ASSERT_TRUE(a.report && b.report);
+      EXPECT_EQ(b.report->linearized_energy, a.report->linearized_energy) << i;
+      EXPECT_EQ(b.method_report, a.method_report) << i;
+    }
+  }
+  std::size_t failed = 0;
+  for (const BatchOutcome& o : one) failed += o.error.has_value();
+  EXPECT_EQ(failed, 6u);
 }
 
 }  // namespace
