@@ -409,6 +409,9 @@ int run(int argc, char** argv) {
   batch->add_option("--report", bta.report, "Report level (default: basic)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
   batch->add_flag("--quiet", bta.quiet, "No progress line (shown only when stderr is a terminal)");
+  batch->footer(
+      "Exit codes: 0 every record succeeded, 1 some record failed (its error record is in the "
+      "output), 2 usage error, unreadable input or unwritable output.");
 
   bool methods_json = false;
   CLI::App* methods = app.add_subcommand("methods", "List the methods and their options.");
