@@ -257,7 +257,7 @@ py::array_t<double> points_array(const std::vector<Vec2>& points) {
   return out;
 }
 
-/// The report as the dict io::to_json(Report) describes, built directly (5x faster than through
+/// The report as the dict io::to_json(Report) describes, built directly (twice as fast as through
 /// JSON, which matters when reading the reports of many curves). The tests check that it equals
 /// the CLI's JSON report key for key.
 py::dict report_to_python(const fairspline::Report& r) {
