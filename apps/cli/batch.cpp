@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -55,8 +56,18 @@ constexpr std::size_t kKeepRecordCapacity = std::size_t{1} << 20;
 /// Redraw interval of the progress line.
 constexpr auto kRedrawInterval = std::chrono::milliseconds(200);
 
+// strerror_r is the thread-safe strerror (writes happen on the writer thread); the GNU version
+// returns the text, the POSIX one an error code.
+[[maybe_unused]] const char* strerror_r_text(const char* text, const char*) {
+  return text;
+}
+[[maybe_unused]] const char* strerror_r_text(int status, const char* buf) {
+  return status == 0 ? buf : "unknown error";
+}
+
 std::string system_error_text(int err) {
-  return std::strerror(err);  // only called on the main thread
+  char buf[256] = "";
+  return strerror_r_text(strerror_r(err, buf, sizeof buf), buf);
 }
 
 // ---------------------------------------------------------------- input
@@ -257,6 +268,78 @@ class Output {
 
   std::FILE* file_ = nullptr;
   std::string name_;
+};
+
+/// Writes blocks of records on its own thread, so that writing one block overlaps fitting the
+/// next (on a 2-core machine the serial write otherwise took ~10% of a run to /dev/null and
+/// more to a file). One block is written at a time, in submission order.
+class BlockWriter {
+ public:
+  explicit BlockWriter(Output& output) : output_(output), thread_([this] { run(); }) {}
+  BlockWriter(const BlockWriter&) = delete;
+  BlockWriter& operator=(const BlockWriter&) = delete;
+  ~BlockWriter() {
+    {
+      const std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+  /// Waits until the previous block is written, then takes `records` to write (with a flush
+  /// after it if `flush`) and gives back the strings of the previous block in their place, to
+  /// be reused. Rethrows the error of an earlier write.
+  void submit(std::vector<std::string>& records, bool flush) {
+    std::unique_lock lock(mutex_);
+    idle_.wait(lock, [this] { return !pending_; });
+    if (failure_) std::rethrow_exception(failure_);
+    records.swap(block_);
+    flush_ = flush;
+    pending_ = true;
+    lock.unlock();
+    wake_.notify_all();
+  }
+
+  /// Waits until everything submitted is written; rethrows a write error.
+  void drain() {
+    std::unique_lock lock(mutex_);
+    idle_.wait(lock, [this] { return !pending_; });
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  void run() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return pending_ || stop_; });
+      if (!pending_) return;
+      lock.unlock();
+      try {
+        for (std::string& r : block_) {
+          output_.write(r);
+          if (r.capacity() > kKeepRecordCapacity) std::string().swap(r);  // after a huge one
+        }
+        if (flush_) output_.flush();
+      } catch (...) {
+        const std::lock_guard relock(mutex_);
+        if (!failure_) failure_ = std::current_exception();
+      }
+      lock.lock();
+      pending_ = false;
+      idle_.notify_all();
+    }
+  }
+
+  Output& output_;
+  std::vector<std::string> block_;
+  bool flush_ = false;
+  bool pending_ = false;
+  bool stop_ = false;
+  std::exception_ptr failure_;
+  std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  std::thread thread_;  // last: starts after everything it reads is initialized
 };
 
 // ---------------------------------------------------------------- progress
@@ -513,6 +596,7 @@ int run_batch(const BatchArgs& args) {
   LineReader reader(input.fd, input.name);
   const std::size_t per_line = plan.records_per_line();
   const std::size_t block_lines = std::max<std::size_t>(64, kBlockLines / per_line);
+  BlockWriter writer(output);
   Block block;
   std::vector<std::string> records;
   std::size_t line_number = 0, total = 0;
@@ -530,13 +614,11 @@ int run_batch(const BatchArgs& args) {
       if (f != 0) failed.fetch_add(f, std::memory_order_relaxed);
       if (progress) progress->add(per_line, line.raw_bytes);
     });
-    for (std::string& r : records) {
-      output.write(r);
-      if (r.capacity() > kKeepRecordCapacity) std::string().swap(r);  // after a huge record
-    }
-    if (reader.would_wait()) output.flush();  // a reader downstream gets what there is
     total += records.size();
+    // A reader downstream gets what there is when the input would make us wait.
+    writer.submit(records, reader.would_wait());
   }
+  writer.drain();
   output.finish();
   if (progress) progress->stop();
   if (failed.load() != 0) {
