@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Runs the libFuzzer targets of a FAIRSPLINE_FUZZ build (see `make fuzz`, docs/fuzzing.md).
+#   tests/fuzz/run-fuzz.sh BUILD_DIR SECONDS [TARGET...]
+# Each target runs SECONDS seconds (-max_total_time) on two corpora: its writable corpus
+# BUILD_DIR/fuzz-corpus/<target> (new inputs go there; not committed) and the committed seeds
+# tests/fuzz/corpus/<target>, read only. A crash, leak, timeout (> 10 s for one input) or
+# out-of-memory stops the run with the reproducer's path; the last lines of each log
+# (executions, exec/s, cov, ft, corpus) are printed as a summary.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+build="${1:?usage: run-fuzz.sh BUILD_DIR SECONDS [TARGET...]}"
+seconds="${2:?usage: run-fuzz.sh BUILD_DIR SECONDS [TARGET...]}"
+shift 2
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then targets=(fuzz_csv fuzz_json fuzz_fit fuzz_server); fi
+
+for t in "${targets[@]}"; do
+  exe="$build/tests/fuzz/$t"
+  if [ ! -x "$exe" ]; then
+    echo "run-fuzz: $exe is missing (build with -DFAIRSPLINE_FUZZ=ON)" >&2
+    exit 2
+  fi
+  corpus="$build/fuzz-corpus/$t"
+  artifacts="$build/fuzz-artifacts/$t"
+  log="$build/fuzz-logs/$t.log"
+  mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
+  dict=()
+  case "$t" in
+    fuzz_csv) dict=(-dict="$here/csv.dict") ;;
+    fuzz_json | fuzz_server) dict=(-dict="$here/json.dict") ;;
+  esac
+  echo "run-fuzz: $t for ${seconds}s (log $log)"
+  status=0
+  "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
+    -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" \
+    "$corpus" "$here/corpus/$t" >"$log" 2>&1 || status=$?
+  # Summary: the last status line (#N DONE/pulse cov ft corp exec/s) and the final stats.
+  grep -E '^#[0-9]+' "$log" | tail -n 1 || true
+  grep -E '^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)' "$log" || true
+  if [ "$status" -ne 0 ]; then
+    echo "run-fuzz: $t FAILED (exit $status); last lines of $log:" >&2
+    tail -n 40 "$log" >&2
+    repro="$(grep -Eo "(Test unit written to|written to) [^ ]+" "$log" | tail -n 1 | awk '{print $NF}')"
+    if [ -n "$repro" ]; then
+      echo "run-fuzz: reproducer: $repro" >&2
+      echo "run-fuzz: replay it with: $exe $repro" >&2
+    fi
+    exit 1
+  fi
+done
