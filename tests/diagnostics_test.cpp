@@ -352,6 +352,31 @@ TEST(Diagnostics, ManyCrossingsOfASpiralAgainstItsChord) {
   }
 }
 
+// Found by fuzz_fit (tests/fuzz/corpus/fuzz_fit/regression-retracing-min-energy): points going
+// back and forth between two places give pieces that coincide along their whole length. Every
+// subdivision cell along the shared arc overlapped, so the cells doubled per level and each flat
+// pair added a hit that the duplicate merge compared with all others: the full report hung.
+// Coinciding pieces now give one intersection standing for the shared arc, at once.
+TEST(Diagnostics, PiecesRetracingEachOtherGiveOneIntersectionQuickly) {
+  const CubicBezier a = kS, back = kS.reversed();
+  for (double size : {1.0, 1e-9, 1e9}) {
+    std::vector<CubicBezier> pieces;
+    for (const CubicBezier& c : {a, back, a, back, a}) {
+      CubicBezier scaled = c;
+      for (Point& q : scaled.p) q = size * q + Vec2{1.5, 7.5};
+      pieces.push_back(scaled);
+    }
+    const auto hits = find_self_intersections(make_spline(pieces));
+    // Pairs (0,2), (0,4), (2,4), (1,3) coincide; adjacent pieces share their joints only.
+    EXPECT_GE(hits.size(), 4u) << size;
+    EXPECT_LE(hits.size(), 10u) << size;
+    for (const Intersection& h : hits) {
+      EXPECT_LT(h.segment_a, h.segment_b);
+      EXPECT_LE(distance(h.point, pieces[h.segment_a].eval(h.u_a)), 1e-6 * size) << size;
+    }
+  }
+}
+
 RC_GTEST_PROP(Diagnostics, IntersectionsAreInvariantUnderSimilarities, ()) {
   // A random open chain of 2-5 regular pieces (degenerate pieces — zero-length handles, straight
   // pieces retracing themselves, pieces ending where they start — make tangential contacts at a

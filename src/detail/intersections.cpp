@@ -9,6 +9,10 @@ namespace fairspline::detail {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
+/// Subdivision cells of one pair of pieces before they are taken to coincide along an arc.
+constexpr std::size_t kMaxCells = std::size_t{1} << 15;
+/// Distinct crossings of two cubics that do not share an arc: at most 3·3 (Bezout).
+constexpr std::size_t kMaxCrossings = 9;
 
 bool boxes_overlap(const BBox& a, const BBox& b, double margin) {
   return a.min.x <= b.max.x + margin && b.min.x <= a.max.x + margin &&
@@ -148,7 +152,16 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
   hits.clear();
   stack.push_back({A, B, 0.0, 1.0, 0.0, 1.0, 0});
   const double accept = 4.0 * tol;
+  // Pieces that coincide along an arc (a curve retracing itself) meet in a continuum: every cell
+  // along the shared arc survives, so their number doubles with each level. The cell budget
+  // ends the search there (the test suite's pieces need at most ~3000 cells).
+  bool overlap = false;
+  std::size_t cells = 0;
   while (!stack.empty()) {
+    if (++cells > kMaxCells) {
+      overlap = true;
+      break;
+    }
     const IntersectionWorkspace::Cell c = stack.back();
     stack.pop_back();
     if (!boxes_overlap(c.a.control_bbox(), c.b.control_bbox(), tol)) continue;
@@ -237,6 +250,16 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
         break;
       }
     if (!dup) out.push_back(h);
+    // Two cubics meet in at most 9 points unless they share an arc (Bezout).
+    if (out.size() - first > kMaxCrossings) {
+      overlap = true;
+      break;
+    }
+  }
+  // Coinciding pieces: one intersection stands for the shared arc, the hit of smallest u_a.
+  if (overlap) {
+    out.resize(first);
+    if (!hits.empty()) out.push_back(hits.front());
   }
 }
 

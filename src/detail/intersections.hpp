@@ -42,6 +42,9 @@ struct IntersectionWorkspace {
 /// same half-plane, hits in the contact zone next to J (the pieces within 4·tol of each other)
 /// are dropped too. `tol` is the absolute geometric tolerance: subdivision stops when both
 /// sub-pieces are flat to tol, chord crossings are refined by Newton and accepted within 4·tol.
+/// Pieces that share an arc (a curve retracing itself) meet in a continuum: when the search
+/// finds more than the 9 crossings two distinct cubics can have, or needs more than 2^15 cells,
+/// one hit (the one of smallest parameter on A) stands for the shared arc.
 void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joints, double tol,
                       int max_depth, IntersectionWorkspace& ws, std::vector<CurveHit>& out);
 
