@@ -5,7 +5,16 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CLI := $(BUILD_DIR)/apps/cli/fairspline
 EXAMPLE ?= examples/li-example1.csv
 
-.PHONY: all deps configure build run test bench format format-check clean
+# Fuzzing (libFuzzer, clang) and sanitizers (ASan + UBSan) each have their own build directory.
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := fuzz_csv fuzz_json fuzz_fit fuzz_server
+ASAN_DIR ?= build-asan
+SANITIZE_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+
+.PHONY: all deps configure build run test bench format format-check clean fuzz fuzz-build sanitize
 
 all: build
 
@@ -31,6 +40,32 @@ test: build
 bench: build
 	$(BUILD_DIR)/bench/fairspline_bench --benchmark_min_time=0.2
 	/usr/bin/python3 bench/compare_scipy.py --cli $(CLI)
+
+# `make fuzz FUZZ_SECONDS=N`: builds the libFuzzer targets of tests/fuzz with clang in
+# $(FUZZ_DIR) (library instrumented, ASan + UBSan) and runs each for N seconds on its committed
+# seed corpus tests/fuzz/corpus/<target> (read only) plus a writable corpus in $(FUZZ_DIR).
+# A crash stops with the reproducer's path: add it to tests/fuzz/corpus/<target>/ (make test
+# replays every file there) and fix the bug. See docs/fuzzing.md.
+fuzz-build: deps
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFAIRSPLINE_FUZZ=ON
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS)
+
+fuzz: fuzz-build
+	tests/fuzz/run-fuzz.sh $(FUZZ_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# `make sanitize`: the whole test suite built with ASan + UBSan (g++) in $(ASAN_DIR). Python
+# loads the extension module into the uninstrumented /usr/bin/python3, so py.pytest runs with
+# the sanitizer runtimes preloaded and without leak detection (CPython itself does not free
+# everything at exit); every other test runs with leak detection on.
+sanitize: deps
+	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_EXE_LINKER_FLAGS=$(SANITIZE_FLAGS)" \
+	  "-DCMAKE_SHARED_LINKER_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_MODULE_LINKER_FLAGS=$(SANITIZE_FLAGS)"
+	cmake --build $(ASAN_DIR) -j $(JOBS)
+	$(SANITIZE_ENV) ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -E '^py\.pytest$$'
+	LD_PRELOAD="$$(g++ -print-file-name=libasan.so) $$(g++ -print-file-name=libubsan.so)" \
+	  ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+	  ctest --test-dir $(ASAN_DIR) --output-on-failure -R '^py\.pytest$$'
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
