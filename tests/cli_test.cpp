@@ -1,84 +1,36 @@
 // End-to-end tests of the `fairspline` command.
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "cli_util.hpp"
 
 #ifdef FAIRSPLINE_CLI
 
 namespace {
 
 namespace fs = std::filesystem;
+using fairspline::testing::CliRun;
+using fairspline::testing::slurp;
 using nlohmann::json;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
+  return fairspline::testing::shell_quote(s);
 }
 
 const std::string kExample = std::string(FAIRSPLINE_SOURCE_DIR) + "/examples/li-example1.csv";
 const std::string kData = FAIRSPLINE_TEST_DATA_DIR;
 
-class Cli : public ::testing::Test {
+class Cli : public fairspline::testing::CommandTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("fairspline-cli-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
   /// Runs the CLI with `args` (already shell-quoted where needed), optional stdin text.
   CliRun run(const std::string& args, const std::optional<std::string>& stdin_text = std::nullopt) {
-    std::string cmd = quote(FAIRSPLINE_CLI) + " " + args;
-    if (stdin_text) {
-      const fs::path in = dir_ / "stdin.txt";
-      std::ofstream(in, std::ios::binary) << *stdin_text;
-      cmd += " <" + quote(in.string());
-    } else {
-      cmd += " </dev/null";
-    }
-    cmd += " >" + quote((dir_ / "out.txt").string()) + " 2>" + quote((dir_ / "err.txt").string());
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "out.txt");
-    r.err = slurp(dir_ / "err.txt");
-    return r;
+    return run_program(FAIRSPLINE_CLI, args, stdin_text);
   }
-
-  fs::path file(const std::string& name, const std::string& content) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << content;
-    return p;
-  }
-
-  fs::path dir_;
 };
 
 void expect_fit_schema(const json& j, const std::string& method, std::size_t points) {
