@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_util.hpp"
 #include "test_util.hpp"
 
 #ifdef FAIRSPLINE_CLI
@@ -23,25 +24,12 @@
 namespace {
 
 namespace fs = std::filesystem;
+using fairspline::testing::CliRun;
+using fairspline::testing::slurp;
 using nlohmann::json;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
+  return fairspline::testing::shell_quote(s);
 }
 
 std::vector<json> parse_lines(const std::string& text) {
@@ -60,34 +48,17 @@ json walk_request(std::size_t n, std::uint64_t seed) {
   return {{"points", points}};
 }
 
-class CliBatch : public ::testing::Test {
+class CliBatch : public fairspline::testing::CommandTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("fairspline-batch-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
   /// Runs the CLI with `args` (already shell-quoted), stdin from `stdin_text` or /dev/null,
   /// stdout and stderr to files (so stderr is not a terminal).
   CliRun run(const std::string& args, const std::optional<std::string>& stdin_text = std::nullopt) {
-    const std::string cmd = command(args, stdin_text) + " 2>" + quote((dir_ / "err.txt").string());
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "out.txt");
-    r.err = slurp(dir_ / "err.txt");
-    return r;
+    return run_program(FAIRSPLINE_CLI, args, stdin_text);
   }
 
   /// Same, but stderr is a pseudo-terminal: err is what the terminal received.
   CliRun run_on_tty(const std::string& args) {
-    const std::string cmd = command(args, std::nullopt);
+    const std::string cmd = command(args);
     CliRun r;
     const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
     if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) {
@@ -125,23 +96,11 @@ class CliBatch : public ::testing::Test {
     return r;
   }
 
-  fs::path file(const std::string& name, const std::string& content) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << content;
-    return p;
-  }
-
-  fs::path dir_;
-
  private:
-  std::string command(const std::string& args, const std::optional<std::string>& stdin_text) {
-    std::string cmd = quote(FAIRSPLINE_CLI) + " " + args;
-    if (stdin_text) {
-      cmd += " <" + quote(file("stdin.txt", *stdin_text).string());
-    } else {
-      cmd += " </dev/null";
-    }
-    return cmd + " >" + quote((dir_ / "out.txt").string());
+  /// The shell command of run_on_tty: stdin from /dev/null, stdout to out.txt.
+  std::string command(const std::string& args) {
+    return quote(FAIRSPLINE_CLI) + " " + args + " </dev/null >" +
+           quote((dir_ / "out.txt").string());
   }
 };
 
