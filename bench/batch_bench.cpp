@@ -19,6 +19,12 @@
 //       the machine offered meanwhile.
 // The curves are 20-point pieces of one random walk (bench_data.hpp's distribution), each
 // starting at the origin; they are made once, outside every timing.
+// Reading the numbers: fit_many returns 10^6 FitResults (~3 GB, ~20 allocations each), so it
+// is bound by allocating and first touching memory, and its times depend on what the heap
+// holds from the previous call (a 1-thread run after a 2-thread one finds half the freed
+// memory in the other thread's arena). Compare thread counts in separate processes, e.g.
+// --benchmark_filter='batch/fit_many/.*threads:1/' --benchmark_repetitions=3, and take the
+// best; batch/reuse shows what the fitting itself scales to.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
