@@ -90,6 +90,8 @@ std::vector<BatchOutcome> fit_many(std::span<const BatchJob> jobs, const BatchOp
       options.progress(done, jobs.size());
     }
   });
+  // An empty batch is finished at once: report it, as the contract says (done == total).
+  if (jobs.empty() && options.progress) options.progress(0, 0);
   return outcomes;
 }
 

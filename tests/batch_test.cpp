@@ -3,6 +3,7 @@
 #include <atomic>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -137,6 +138,15 @@ TEST(Batch, FitManyGivesTheSameResultsForAnyThreadCount) {
   std::size_t failed = 0;
   for (const BatchOutcome& o : one) failed += o.error.has_value();
   EXPECT_EQ(failed, 6u);
+}
+
+TEST(Batch, AnEmptyBatchReportsItsProgressOnce) {
+  std::vector<std::pair<std::size_t, std::size_t>> calls;
+  BatchOptions options;
+  options.progress = [&](std::size_t done, std::size_t total) { calls.emplace_back(done, total); };
+  EXPECT_TRUE(fit_many({}, options).empty());
+  ASSERT_EQ(calls.size(), 1u);
+  EXPECT_EQ(calls[0], std::make_pair(std::size_t{0}, std::size_t{0}));
 }
 
 }  // namespace
