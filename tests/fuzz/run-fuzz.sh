@@ -1,15 +1,23 @@
 #!/usr/bin/env bash
 # Runs the libFuzzer targets of a FAIRSPLINE_FUZZ build (see `make fuzz`, docs/fuzzing.md).
-#   tests/fuzz/run-fuzz.sh BUILD_DIR SECONDS [TARGET...]
+#   tests/fuzz/run-fuzz.sh [--smoke] BUILD_DIR SECONDS [TARGET...]
 # Each target runs SECONDS seconds (-max_total_time) on two corpora: its writable corpus
 # BUILD_DIR/fuzz-corpus/<target> (new inputs go there; not committed) and the committed seeds
 # tests/fuzz/corpus/<target>, read only. A crash, leak, timeout (> 10 s for one input) or
 # out-of-memory stops the run with the reproducer's path; the last lines of each log
 # (executions, exec/s, cov, ft, corpus) are printed as a summary.
+# --smoke (the CTest tests fuzz.smoke.*): exit 77 (skipped) when the target is not built; a
+# fixed seed and a fresh writable corpus each time, so that the run does not depend on earlier
+# ones.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-build="${1:?usage: run-fuzz.sh BUILD_DIR SECONDS [TARGET...]}"
-seconds="${2:?usage: run-fuzz.sh BUILD_DIR SECONDS [TARGET...]}"
+smoke=0
+if [ "${1:-}" = "--smoke" ]; then
+  smoke=1
+  shift
+fi
+build="${1:?usage: run-fuzz.sh [--smoke] BUILD_DIR SECONDS [TARGET...]}"
+seconds="${2:?usage: run-fuzz.sh [--smoke] BUILD_DIR SECONDS [TARGET...]}"
 shift 2
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then targets=(fuzz_csv fuzz_json fuzz_fit fuzz_server); fi
@@ -17,12 +25,20 @@ if [ ${#targets[@]} -eq 0 ]; then targets=(fuzz_csv fuzz_json fuzz_fit fuzz_serv
 for t in "${targets[@]}"; do
   exe="$build/tests/fuzz/$t"
   if [ ! -x "$exe" ]; then
-    echo "run-fuzz: $exe is missing (build with -DFAIRSPLINE_FUZZ=ON)" >&2
+    echo "run-fuzz: $exe is missing (make fuzz-build; needs clang and libFuzzer)" >&2
+    if [ "$smoke" = 1 ]; then exit 77; fi
     exit 2
   fi
   corpus="$build/fuzz-corpus/$t"
   artifacts="$build/fuzz-artifacts/$t"
   log="$build/fuzz-logs/$t.log"
+  seed=()
+  if [ "$smoke" = 1 ]; then
+    corpus="$build/fuzz-smoke-corpus/$t"
+    log="$build/fuzz-logs/smoke-$t.log"
+    rm -rf "$corpus"
+    seed=(-seed=1)
+  fi
   mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
   dict=()
   case "$t" in
@@ -32,7 +48,7 @@ for t in "${targets[@]}"; do
   echo "run-fuzz: $t for ${seconds}s (log $log)"
   status=0
   "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
-    -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" \
+    -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" "${seed[@]}" \
     "$corpus" "$here/corpus/$t" >"$log" 2>&1 || status=$?
   # Summary: the last status line (#N DONE/pulse cov ft corp exec/s) and the final stats.
   grep -E '^#[0-9]+' "$log" | tail -n 1 || true
