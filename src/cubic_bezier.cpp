@@ -28,7 +28,12 @@ CubicBezier CubicBezier::subsegment(double u0, double u1) const {
     const Point r0 = lerp(q0, q1, b), r1 = lerp(q1, q2, b);
     return lerp(r0, r1, c);
   };
-  return {{blossom(u0, u0, u0), blossom(u0, u0, u1), blossom(u0, u1, u1), blossom(u1, u1, u1)}};
+  // The curve's own end points where u0 or u1 is an end: lerp(a, b, 1) = a + (b − a) is not b
+  // after rounding, by up to eps·|control points|, which is far from the end point when the inner
+  // control points are much larger than the curve (kozak-krajnc pieces through nearly coincident
+  // points missed their last point by 2e-6 of the chord; found by fuzz_fit).
+  const auto end = [&](double u) { return u == 0.0 ? p[0] : u == 1.0 ? p[3] : blossom(u, u, u); };
+  return {{end(u0), blossom(u0, u0, u1), blossom(u0, u1, u1), end(u1)}};
 }
 
 namespace {

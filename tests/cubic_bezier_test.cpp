@@ -99,6 +99,18 @@ TEST(CubicBezier, SplitAndSubsegmentReproduceTheCurve) {
   for (double v = 0.0; v <= 1.0; v += 0.1) expect_near(r.eval(v), kS.eval(1.0 - v), 1e-13);
 }
 
+// Found by fuzz_fit (tests/fuzz/corpus/fuzz_fit/regression-kozak-krajnc-huge-handles): a piece
+// whose inner control points are 10^10 times its chord lost its end point to rounding in
+// subsegment(t2, 1), so the spline missed the last point by 2e-6 of its size.
+TEST(CubicBezier, SubsegmentKeepsTheEndPointsExactly) {
+  const CubicBezier b = bez({1765.9375, 3391.875}, {3.8e8, 7.4e8}, {4.4e13, 8.4e13},
+                            {1765.9648590087891, 3391.8847694396973});
+  EXPECT_EQ(b.subsegment(0.25, 1.0).p[3], b.p[3]);
+  EXPECT_EQ(b.subsegment(0.0, 0.5).p[0], b.p[0]);
+  EXPECT_EQ(b.subsegment(1.0, 0.0).p[0], b.p[3]);
+  EXPECT_EQ(b.subsegment(1.0, 0.0).p[3], b.p[0]);
+}
+
 RC_GTEST_PROP(CubicBezier, SplitReproducesRandomCurves, ()) {
   const CubicBezier b = random_cubic();
   const double u = *rc::gen::inRange(1, 1000) / 1000.0;
