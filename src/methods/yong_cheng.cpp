@@ -882,10 +882,22 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
         }
         // World coefficients are relative to unit directions on [0, 1]; rescale to the given
         // vector at a span end and to the piece's parameter interval.
+        // (norm, not sqrt(norm2): the square of a tangent of length 1e-170 underflows.) A
+        // tangent so short that the coefficient relative to it overflows (a denormal one) is
+        // refused rather than reported as Inf (found by fuzz_fit).
         const double hk = cut[k + 1] - cut[k];
-        const double r0 = k == 0 ? std::sqrt(norm2(v0)) : 1.0;
-        const double r1 = k + 1 == c.count ? std::sqrt(norm2(v1)) : 1.0;
-        coeffs.push_back({c.coefficients[k].a0 / (hk * r0), c.coefficients[k].a1 / (hk * r1)});
+        const double r0 = k == 0 ? norm(v0) : 1.0;
+        const double r1 = k + 1 == c.count ? norm(v1) : 1.0;
+        const double a0 = c.coefficients[k].a0 / (hk * r0), a1 = c.coefficients[k].a1 / (hk * r1);
+        if (!std::isfinite(a0) || !std::isfinite(a1)) {
+          const std::size_t at = std::isfinite(a0) ? j : i;
+          throw Error(ErrorCode::kNonFinite,
+                      "yong-cheng: the tangent at point " + std::to_string(at) +
+                          " is too short for its Hermite coefficient to be represented in double "
+                          "precision; scale it up",
+                      at);
+        }
+        coeffs.push_back({a0, a1});
       }
       span_reports.push_back({{"construction", name},
                               {"pieces", c.count},

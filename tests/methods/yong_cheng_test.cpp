@@ -675,5 +675,28 @@ TEST(YongChengSpline, HugeAndTinyCoordinatesStayFinite) {
   }
 }
 
+// Found by fuzz_fit (tests/fuzz/corpus/fuzz_fit/regression-yong-cheng-denormal-tangents): the
+// method report rescales each coefficient to the given tangent's length, which was computed as
+// sqrt(|v|^2) (0 for |v| = 1e-170) and divided by: Inf in method_report. Short tangents whose
+// square underflows now report finite coefficients; a denormal one, whose coefficient would
+// overflow, is refused with an Error naming the point.
+TEST(YongChengSpline, TinyTangentsGiveFiniteReportsOrAnError) {
+  FitInput in = with_tangents({{0, 0}, {1, 0}, {1, 1}}, {{1e-170, 1e-170}, {0, -1}, {-1, 0}});
+  const FitResult r = fit("yong-cheng", in, {}, ReportLevel::kBasic);
+  for (const auto& span : r.method_report.at("spans")) {
+    for (const auto& c : span.at("coefficients")) {
+      for (const auto& x : c) EXPECT_TRUE(x.is_number() && std::isfinite(x.get<double>())) << c;
+    }
+  }
+  in.tangents[0] = Vec2{5e-324, 5e-324};
+  try {
+    fit("yong-cheng", in, {}, ReportLevel::kBasic);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNonFinite);
+    EXPECT_EQ(e.index(), 0u);
+  }
+}
+
 }  // namespace
 }  // namespace fairspline
