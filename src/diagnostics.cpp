@@ -371,7 +371,9 @@ Report make_report(const Spline& s, std::span<const Point> points, ReportLevel l
       SegmentReport& sr = r.segments[k];
       sr.linearized_energy = lin;
       sr.regular = cert.regular;
-      sr.min_relative_speed = cert.speed_lower;
+      // A lower bound: 0 when none is finite (no accepted sub-interval, or a speed divided by
+      // a denormal chord overflowed; found by fuzz_fit), as for the whole spline below.
+      sr.min_relative_speed = std::isfinite(cert.speed_lower) ? cert.speed_lower : 0.0;
       const double scale = chord_scale(b);
       const double threshold = std::max(options.min_relative_speed, 0.0) * scale;
       sr.has_cusp = scale > 0.0 && !(m.speed > threshold);

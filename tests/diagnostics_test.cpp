@@ -589,6 +589,20 @@ TEST(Diagnostics, ReportFlagsCuspsLoopsAndSingularEnergies) {
   EXPECT_EQ(r.intersections[0].segment_b, 0u);
 }
 
+// Found by fuzz_fit (tests/fuzz/corpus/fuzz_fit/regression-denormal-span): a closed li-strain
+// curve whose last point is (5e-324, 5e-324), next to its first point (0, 0), has a piece with a
+// denormal chord; its minimum speed relative to that chord overflowed to Inf in the segment
+// report. A lower bound that is not finite is reported as 0, as for the whole spline.
+TEST(Diagnostics, SegmentSpeedBoundOfADenormalChordIsFinite) {
+  const double d = std::numeric_limits<double>::denorm_min();
+  const Spline s = make_spline({bez({d, d}, {1, 1}, {-1, 2}, {0, 0})});
+  const std::vector<Point> points = {{d, d}, {0, 0}};
+  const Report r = make_report(s, points, ReportLevel::kFull);
+  ASSERT_EQ(r.segments.size(), 1u);
+  EXPECT_TRUE(std::isfinite(r.segments[0].min_relative_speed));
+  EXPECT_TRUE(std::isfinite(r.min_relative_speed));
+}
+
 TEST(Diagnostics, ReportRejectsBadSplines) {
   Spline s = hand_built();
   s.segments[2].span = 7;
