@@ -333,6 +333,30 @@ RC_GTEST_PROP(LiProperty, ReversalReversesTheCurve, ()) {
 namespace fairspline {
 namespace {
 
+// Found by fuzz_fit (tests/fuzz/corpus/fuzz_fit/regression-li-strain-1e300): the method
+// report's strain term was expanded in the tangents and chord/h, squaring coordinates of 1e300
+// (Inf - Inf = NaN) for a straight piece whose energy is 0. It now comes from the control
+// points, as the report's linearized energy does, and an energy that really overflows is an
+// Error.
+TEST(Li, EnergyTermsOfHugeCoordinatesAreFiniteOrAnError) {
+  FitInput in;
+  in.points = {{1e300, 1e300}, {1e-8, 811.5625}};
+  in.alpha = 0.0;
+  const FitResult r = fit("li-strain", in, {}, ReportLevel::kFull);
+  const double strain = r.method_report.at("strain_term").get<double>();
+  EXPECT_TRUE(std::isfinite(strain));
+  EXPECT_DOUBLE_EQ(strain, r.report->linearized_energy);
+  EXPECT_TRUE(std::isfinite(r.method_report.at("third_derivative_term").get<double>()));
+  EXPECT_TRUE(std::isfinite(r.method_report.at("objective").get<double>()));
+  in.points = {{0, 0}, {1e300, 0}, {1e300, 1e300}};
+  try {
+    const FitResult big = fit("li-strain", in, {}, ReportLevel::kFull);
+    EXPECT_TRUE(std::isfinite(big.method_report.at("strain_term").get<double>()));
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNonFinite) << e.what();
+  }
+}
+
 TEST(Li, HugeAndTinyCoordinatesGiveACurveOrAClearError) {
   // Far apart but representable: a curve, finite everywhere.
   for (double s : {1e-300, 1e-160, 1e160, 1e300}) {
