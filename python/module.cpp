@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <deque>
 #include <optional>
 #include <span>
@@ -154,6 +155,14 @@ std::string shape_text(const py::array& a) {
 DoubleArray as_double_array(py::handle obj, const std::string& what, const char* expected) {
   DoubleArray a = DoubleArray::ensure(obj);
   if (!a) invalid(what + " must be " + expected + " of numbers");
+  // NumPy arrays may be unaligned (a float64 view at an odd offset of a byte buffer, arrays
+  // read from some .npz files); reading them as double* is undefined behaviour (UBSan found
+  // it in `make sanitize`), so such arrays are copied into an aligned one first.
+  if (reinterpret_cast<std::uintptr_t>(a.data()) % alignof(double) != 0) {
+    DoubleArray aligned(std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim()));
+    std::memcpy(aligned.mutable_data(), a.data(), static_cast<std::size_t>(a.nbytes()));
+    return aligned;
+  }
   return a;
 }
 
