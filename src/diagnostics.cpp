@@ -334,8 +334,12 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
   return unique;
 }
 
-Report make_report(const Spline& s, std::span<const Point> points, ReportLevel level,
-                   const DiagnosticsOptions& options) {
+namespace {
+
+/// The report of `s`, whose linearized energies are those of `energy_source` (the same pieces
+/// and knots at another scale; see make_report).
+Report report_of(const Spline& s, const Spline& energy_source, std::span<const Point> points,
+                 ReportLevel level, const DiagnosticsOptions& options) {
   Report r;
   if (level == ReportLevel::kNone) return r;
   const bool full = level == ReportLevel::kFull;
@@ -361,7 +365,7 @@ Report make_report(const Spline& s, std::span<const Point> points, ReportLevel l
       throw Error(ErrorCode::kInvalidArgument,
                   "piece " + std::to_string(k) + " spans an empty or non-finite parameter interval",
                   k);
-    const double lin = linearized_energy(b, dt);
+    const double lin = linearized_energy(energy_source.segments[k].bezier, dt);
     r.linearized_energy += lin;
     const detail::SpeedMinimum m = detail::min_speed(b);
     const RegularityCertificate cert = certify(b, options, m);
@@ -432,6 +436,75 @@ Report make_report(const Spline& s, std::span<const Point> points, ReportLevel l
   }
   if (!std::isfinite(r.linearized_energy))
     throw Error(ErrorCode::kNonFinite, "the linearized energy of the spline overflows");
+  return r;
+}
+
+/// Largest |coordinate| of the control points.
+double coordinate_scale(const Spline& s) {
+  double big = 0.0;
+  for (const Segment& g : s.segments)
+    for (const Point& p : g.bezier.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
+  return big;
+}
+
+Point scaled(Point p, int ex) {
+  return {std::scalbn(p.x, ex), std::scalbn(p.y, ex)};
+}
+
+/// A geometric quantity scaled back by 2^ex; one that no double can hold is an Error, not Inf.
+double unscale(double v, int ex, int coordinate_ex, const char* what) {
+  const double w = std::scalbn(v, ex);
+  if (!std::isfinite(w))
+    throw Error(ErrorCode::kNonFinite,
+                std::string("the ") + what +
+                    " of this curve is beyond double precision at the scale of its coordinates "
+                    "(about 2^" +
+                    std::to_string(coordinate_ex) +
+                    "); rescale the points, or ask for the basic report, which omits it");
+  return w;
+}
+
+/// Coordinates between 2^-kScaleExponent and 2^kScaleExponent are reported directly (the
+/// curvature-variation integrand holds tenth powers of coordinates). Scaling by a power of two
+/// commutes with every rounding, so the scaled path gives the same bits wherever nothing
+/// under- or overflows; the threshold only saves the copy.
+constexpr int kScaleExponent = 24;
+
+}  // namespace
+
+// Quantities of curves with coordinates near 1e±300 (squares of 1e300 overflow, of 1e-300
+// underflow) are computed on a copy scaled by a power of two, which is exact, and scaled back:
+// lengths and residuals by 2^ex, curvatures and bending energy by 2^-ex, the curvature-variation
+// energy by 2^-3ex; angles, relative speeds and the flags do not change with scale. The
+// linearized energy depends on the knots too and is computed from the original pieces
+// (linearized_energy scales internally).
+Report make_report(const Spline& s, std::span<const Point> points, ReportLevel level,
+                   const DiagnosticsOptions& options) {
+  const double big = coordinate_scale(s);
+  if (!(big > 0.0) || !std::isfinite(big) || std::abs(std::ilogb(big)) <= kScaleExponent)
+    return report_of(s, s, points, level, options);
+  const int ex = std::ilogb(big);
+  Spline unit = s;
+  for (Segment& g : unit.segments)
+    for (Point& p : g.bezier.p) p = scaled(p, -ex);
+  std::vector<Point> unit_points(points.begin(), points.end());
+  for (Point& p : unit_points) p = scaled(p, -ex);
+  Report r = report_of(unit, s, unit_points, level, options);
+  r.max_curvature_jump = unscale(r.max_curvature_jump, -ex, ex, "curvature jump");
+  r.max_interpolation_residual =
+      unscale(r.max_interpolation_residual, ex, ex, "interpolation residual");
+  if (r.bending_energy) r.bending_energy = unscale(*r.bending_energy, -ex, ex, "bending energy");
+  if (r.curvature_variation_energy)
+    r.curvature_variation_energy =
+        unscale(*r.curvature_variation_energy, -3 * ex, ex, "curvature-variation energy");
+  if (r.length) r.length = unscale(*r.length, ex, ex, "length");
+  for (SegmentReport& g : r.segments) {
+    g.bending_energy = unscale(g.bending_energy, -ex, ex, "bending energy");
+    g.curvature_variation_energy =
+        unscale(g.curvature_variation_energy, -3 * ex, ex, "curvature-variation energy");
+    g.length = unscale(g.length, ex, ex, "length");
+  }
+  for (Intersection& x : r.intersections) x.point = scaled(x.point, ex);
   return r;
 }
 

@@ -11,6 +11,7 @@
 // the speed is below that floor (so the value stays finite) and the result is flagged.
 #include "fairspline/energy.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -26,12 +27,37 @@ double linearized_energy_local(const CubicBezier& b) {
   return (norm2(a) + dot(a, c) + norm2(c)) / 3.0;
 }
 
+namespace {
+
+/// Below this a result of the direct formula may have lost precision to underflow.
+constexpr double kTinyEnergy = 1e-250;
+
+double linearized_energy_scaled(const CubicBezier& b, double dt) {
+  double big = 0.0;
+  for (const Point& p : b.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
+  if (big == 0.0 || !std::isfinite(big)) return big == 0.0 ? 0.0 : big;
+  const int ex = std::ilogb(big);
+  CubicBezier u;
+  for (int j = 0; j < 4; ++j) u.p[j] = {std::scalbn(b.p[j].x, -ex), std::scalbn(b.p[j].y, -ex)};
+  const double r = std::scalbn(std::sqrt(linearized_energy_local(u)), ex) / dt / std::sqrt(dt);
+  return r * r;
+}
+
+}  // namespace
+
 double linearized_energy(const CubicBezier& b, double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw Error(ErrorCode::kInvalidArgument,
                 "a spline piece must span a positive, finite parameter interval (got " +
                     std::to_string(dt) + ")");
-  const double e = linearized_energy_local(b) / (dt * dt * dt);
+  double e = linearized_energy_local(b) / (dt * dt * dt);
+  if (!(std::isfinite(e) && (e == 0.0 || e >= kTinyEnergy))) {
+    // Coordinates near 1e±300 (or a parameter interval near 1e±100) overflow or underflow the
+    // squares and dt³ above although the energy itself may be representable: scale the
+    // control points by a power of two (exact) and take the square root first,
+    //   e = (2^ex·sqrt(E_local(2^-ex·b)) / dt / sqrt(dt))².
+    e = linearized_energy_scaled(b, dt);
+  }
   if (!std::isfinite(e))
     throw Error(ErrorCode::kNonFinite,
                 "the linearized energy of a piece overflows (control points too large or the "
