@@ -438,7 +438,7 @@ void realize(CohChoice c, const Polygon& p, const Frame& f, CohCurve& out) {
   out.symmetry = c.symmetry;
   out.count = p.count;
   out.preserved = true;
-  const double len = std::sqrt(norm2(f.d));
+  const double len = norm(f.d);  // hypot: the square of a chord of 1e300 overflows
   for (int k = 0; k < p.count; ++k) {
     const Vec2 q = p.q[k + 1] - p.q[k];
     const OghCoefficients mk = ogh_magnitudes(q, p.u[k], p.u[k + 1]);
@@ -598,8 +598,10 @@ bool ogh_geometrically_smooth(double theta, double phi) {
 }
 
 TangentAngles tangent_angles(Point p0, Point p1, Vec2 v0, Vec2 v1) {
-  const Vec2 d = p1 - p0;
-  return {std::atan2(cross(d, v0), dot(d, v0)), std::atan2(cross(d, v1), dot(d, v1))};
+  // Unit vectors first: cross and dot of vectors near 1e308 (or 1e-300) over/underflow and
+  // atan2(Inf, Inf) would be NaN (found by fuzz_fit).
+  const Vec2 d = safe_unit(p1 - p0), e0 = safe_unit(v0), e1 = safe_unit(v1);
+  return {std::atan2(cross(d, e0), dot(d, e0)), std::atan2(cross(d, e1), dot(d, e1))};
 }
 
 // ---- COH ----
@@ -699,13 +701,14 @@ double coh_min_margin(const CohCurve& curve) {
   for (int k = 0; k < curve.count; ++k) {
     const CubicBezier& b = curve.pieces[k];
     const Vec2 chord = b.p[3] - b.p[0];
-    const double len = std::sqrt(norm2(chord));
-    // The given directions: the control legs times the signs of the coefficients.
+    // The given directions: the control legs times the signs of the coefficients. Cosines of
+    // unit vectors (safe_unit), so that legs of 1e300 or 1e-300 neither overflow nor underflow.
     const Vec2 l0 = b.p[1] - b.p[0], l1 = b.p[3] - b.p[2];
-    const double n0 = std::sqrt(norm2(l0)), n1 = std::sqrt(norm2(l1));
-    if (!(n0 > 0.0 && n1 > 0.0 && len > 0.0)) return -1.0;
-    const double c0 = dot(chord, l0) / (len * n0) * (curve.coefficients[k].a0 > 0.0 ? 1 : -1);
-    const double c1 = dot(chord, l1) / (len * n1) * (curve.coefficients[k].a1 > 0.0 ? 1 : -1);
+    const auto nonzero = [](Vec2 v) { return v.x != 0.0 || v.y != 0.0; };
+    if (!(nonzero(chord) && nonzero(l0) && nonzero(l1))) return -1.0;
+    const Vec2 e = safe_unit(chord);
+    const double c0 = dot(e, safe_unit(l0)) * (curve.coefficients[k].a0 > 0.0 ? 1 : -1);
+    const double c1 = dot(e, safe_unit(l1)) * (curve.coefficients[k].a1 > 0.0 ? 1 : -1);
     margin = std::min({margin, c0 - kThird, c1 - kThird});
   }
   return margin;
@@ -885,10 +888,16 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
         // (norm, not sqrt(norm2): the square of a tangent of length 1e-170 underflows.) A
         // tangent so short that the coefficient relative to it overflows (a denormal one) is
         // refused rather than reported as Inf (found by fuzz_fit).
+        // |V| as m·|V/m| (m = max |component|): hypot of a tangent near 1e308 is Inf.
         const double hk = cut[k + 1] - cut[k];
-        const double r0 = k == 0 ? norm(v0) : 1.0;
-        const double r1 = k + 1 == c.count ? norm(v1) : 1.0;
-        const double a0 = c.coefficients[k].a0 / (hk * r0), a1 = c.coefficients[k].a1 / (hk * r1);
+        const auto per_length = [](double a, Vec2 v) {
+          const double m = std::max(std::abs(v.x), std::abs(v.y));
+          return a / m / norm(v / m);
+        };
+        const double a0 =
+            k == 0 ? per_length(c.coefficients[k].a0 / hk, v0) : c.coefficients[k].a0 / hk;
+        const double a1 = k + 1 == c.count ? per_length(c.coefficients[k].a1 / hk, v1)
+                                           : c.coefficients[k].a1 / hk;
         if (!std::isfinite(a0) || !std::isfinite(a1)) {
           const std::size_t at = std::isfinite(a0) ? j : i;
           throw Error(ErrorCode::kNonFinite,
