@@ -160,7 +160,11 @@ bool interior_direction(const Chord& A, const Chord& B, const NodeSpec& spec, Ve
   switch (spec.rule) {
     case Rule::kOptimal:
       if (std::abs(c) <= kAngleTol) {
-        d = s > 0.0 ? B.unit : A.unit;  // Theorem 6 b) λ = 1 (z = 1), a) λ = 0 (z = −1)
+        // Right angle: the approximate energy is monotone (or constant) on the open arc, so
+        // no λ in (0, 1) is stationary. Theorem 6's λ ∈ {0, 1} would give a piece with a
+        // zero-length arm (zero speed, not regular: docs/methods/jaklic-zagar.md); the
+        // bisector (Corollary 7) is used instead.
+        d = unit_of(bisector_vector(A.unit, B.unit, s));
       } else {
         d = optimal_direction(A.unit, B.unit, c, s, A.len, A.h, B.len, B.h);
       }
@@ -201,7 +205,7 @@ double lambda_of_direction(const Chord& A, const Chord& B, Vec2 d) {
 }
 
 double optimal_lambda_of(const Chord& A, const Chord& B, double c, double s) {
-  if (std::abs(c) <= kAngleTol) return s > 0.0 ? 1.0 : 0.0;
+  if (std::abs(c) <= kAngleTol) return 1.0 / (1.0 + A.len / B.len);  // the bisector's λ
   const double p = A.len / B.len;
   const double r = A.h / B.h;
   const double lam = optimal_lambda_scaled(p, r * r * r, c);

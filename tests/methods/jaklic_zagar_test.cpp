@@ -156,22 +156,44 @@ TEST(JaklicZagar, BelowNinetyDegreesTheStationaryPointIsTheMinimumAndTendsToTheB
   EXPECT_LT(*above.lambda, 1e-4);
 }
 
-TEST(JaklicZagar, RightAngleFollowsTheoremSixSpecialCase) {
-  // u·v = 0: λ = 1 if z = 1 (left turn), λ = 0 if z = −1 (right turn).
+TEST(JaklicZagar, RightAngleTakesTheBisector) {
+  // u·v = 0: the approximate energy is monotone on the open arc, Theorem 6's λ ∈ {0, 1} would
+  // stop a piece (zero arm). The bisector is used: λ = 1/(1 + |A|/|B|), d = (â + b̂)/|â + b̂|.
   const JaklicZagarNode left = jaklic_zagar_optimal_node({2, 0}, {0, 3}, 1.0, 1.0);
   ASSERT_TRUE(left.lambda);
-  EXPECT_EQ(*left.lambda, 1.0);
+  EXPECT_DOUBLE_EQ(*left.lambda, 1.0 / (1.0 + 2.0 / 3.0));
   EXPECT_EQ(left.kind, StationaryKind::kBoundary);
-  EXPECT_EQ(left.direction, (Vec2{0, 1}));
+  EXPECT_NEAR(left.direction.x, std::sqrt(0.5), 4e-16);
+  EXPECT_NEAR(left.direction.y, std::sqrt(0.5), 4e-16);
   const JaklicZagarNode right = jaklic_zagar_optimal_node({2, 0}, {0, -3}, 1.0, 1.0);
-  EXPECT_EQ(*right.lambda, 0.0);
-  EXPECT_EQ(right.direction, (Vec2{1, 0}));
+  EXPECT_DOUBLE_EQ(*right.lambda, 0.6);
+  EXPECT_NEAR(right.direction.x, std::sqrt(0.5), 4e-16);
+  EXPECT_NEAR(right.direction.y, -std::sqrt(0.5), 4e-16);
   // Rotated data where u·v is rounding noise are treated alike (rotation invariance).
   const double phi = 0.7;
   const JaklicZagarNode rotated =
       jaklic_zagar_optimal_node(rotate({2, 0}, phi), rotate({0, 3}, phi), 1.0, 1.0);
-  EXPECT_EQ(*rotated.lambda, 1.0);
+  EXPECT_DOUBLE_EQ(*rotated.lambda, 0.6);
   EXPECT_EQ(rotated.kind, StationaryKind::kBoundary);
+  EXPECT_LT(norm(rotated.direction - rotate(left.direction, phi)), 1e-15);
+}
+
+TEST(JaklicZagar, StaircaseIsRegular) {
+  // Integer grid data turn by exact right angles, after straight runs: with Theorem 6's λ = 1
+  // the piece before each corner had a zero-length end arm (found by the extremes suite).
+  FitInput in;
+  for (int i = 0; i < 6; ++i) in.points.push_back({double(i), 0.0});
+  for (int i = 1; i < 6; ++i) in.points.push_back({5.0, double(i)});
+  for (int i = 1; i < 6; ++i) in.points.push_back({5.0 + i, 5.0});
+  const FitResult r = fit("jaklic-zagar", in);
+  ASSERT_TRUE(r.report);
+  EXPECT_TRUE(r.report->regular);
+  EXPECT_GT(r.report->min_relative_speed, 0.1);
+  for (const Segment& g : r.spline.segments) {
+    EXPECT_GT(norm(g.bezier.p[1] - g.bezier.p[0]), 0.1);
+    EXPECT_GT(norm(g.bezier.p[3] - g.bezier.p[2]), 0.1);
+  }
+  EXPECT_EQ(r.method_report.at("counts").at("boundary"), 2);
 }
 
 TEST(JaklicZagar, StraightPointTakesTheNextChord) {
