@@ -364,12 +364,15 @@ struct ChainResult {
 };
 
 /// Projected Newton (bound constraints, active set) on one chain, from ch.x.
-/// max |x − P(x − g)| over the nodes (P: projection on the boxes; a fixed node has lo = hi = x,
-/// so it contributes 0).
-double projected_gradient(const Chain& ch, std::span<const double> g) {
+/// max |x − P(x − g/gscale)| over the nodes (P: projection on the boxes; a fixed node has
+/// lo = hi = x, so it contributes 0). The gradient is divided by its scale (the largest chord
+/// weight, ∝ 1/length) before the step: x are angles, so with the raw gradient the measure was
+/// capped by the box width for small data (every fit "converged" at iteration 0) and rounded to
+/// 0 for large data (found by the extremes suite: quasi-elastic gave another curve at 2^-50).
+double projected_gradient(const Chain& ch, std::span<const double> g, double gscale) {
   double pg = 0.0;
   for (std::size_t i = 0; i < g.size(); ++i) {
-    pg = std::max(pg, std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i], ch.lo[i], ch.hi[i])));
+    pg = std::max(pg, std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i] / gscale, ch.lo[i], ch.hi[i])));
   }
   return pg;
 }
@@ -393,7 +396,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   Scratch cs, dir(k), dd(k), ee(k), work;
   std::vector<double> xn(k);  // swapped with ch.x
   ChainResult res;
-  const double tol = opt.tolerance * gscale;
+  const double tol = opt.tolerance;  // on the scaled projected gradient (dimensionless)
   double energy = evaluate(ch, m, ch.x, true, ev, cs);
   // Size of the rounding in a computed total energy: cond-G2's E_1 cancels terms of size
   // 6λ² + 12λ + 6 per unit chord; the other bases' sine forms do not cancel.
@@ -404,8 +407,8 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const double rounding_scale =
       1e-14 * (term * wsum + std::abs(energy)) * std::sqrt(static_cast<double>(k));
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
-    const double pg = projected_gradient(ch, ev.g);
-    res.pg = pg / gscale;
+    const double pg = projected_gradient(ch, ev.g, gscale);
+    res.pg = pg;
     if (pg <= tol) {
       res.converged = true;
       return res;
@@ -479,8 +482,8 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     }
     if (!accepted) break;  // no descent possible at this precision
   }
-  const double pg = projected_gradient(ch, ev.g);
-  res.pg = pg / gscale;
+  const double pg = projected_gradient(ch, ev.g, gscale);
+  res.pg = pg;
   res.converged = pg <= tol;
   return res;
 }
@@ -666,9 +669,16 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   out.tangents.resize(n);
   std::vector<Vec2> u;  // unit direction per chain node
   for (Chain& ch : chains) {
-    double gscale = 0.0;
-    for (double w : ch.w) gscale = std::max(gscale, w);
-    const ChainResult r = optimize(ch, options, gscale);
+    // The weights are 1/length: divide them by a power of two near the largest (exact) so that
+    // the Newton system, its shifts and the step bounds see O(1) numbers for data at any scale
+    // (found by the extremes suite: closed curves at 1e50 or 1e-150 did not converge), and
+    // restore them for the report.
+    double wmax = 0.0;
+    for (double w : ch.w) wmax = std::max(wmax, w);
+    const int wexp = std::ilogb(wmax);
+    for (double& w : ch.w) w = std::scalbn(w, -wexp);
+    const ChainResult r = optimize(ch, options, std::scalbn(wmax, -wexp));
+    for (double& w : ch.w) w = std::scalbn(w, wexp);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
     if (!r.converged) {
