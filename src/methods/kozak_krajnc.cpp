@@ -443,7 +443,7 @@ KozakKrajncSolutions kozak_krajnc_solve(Point T0, Point T1, Point T2, Point T3, 
   for (int i = 0; i < out.count; ++i) {
     out.items[i].alpha0 *= kd0 / k;
     out.items[i].alpha3 *= kd3 / k;
-    out.items[i].energy /= k * k;
+    out.items[i].energy = out.items[i].energy / k / k;  // k² alone may over/underflow
   }
   return out;
 }

@@ -634,14 +634,18 @@ nlohmann::json set_json(const XiSet& s) {
   return a;
 }
 
-/// A solution of the scaled problem in the input's units (α ∝ length, energy ∝ length²).
+/// A solution of the scaled problem in the input's units (α ∝ length, energy ∝ length²). An
+/// energy beyond the double range (chords near 1e±300: length² is 1e±600) is null, not Inf.
 nlohmann::json solution_json(const KozakKrajncSolution& s, double unscale) {
+  const double energy = s.energy * unscale * unscale;
   return {{"t1", s.t1},
           {"t2", s.t2},
           {"alpha0", s.alpha0 * unscale},
           {"alpha3", s.alpha3 * unscale},
           {"multiplicity", s.multiplicity},
-          {"energy", s.energy * unscale * unscale}};
+          {"energy", std::isfinite(energy) && (energy > 0.0 || s.energy == 0.0)
+                         ? nlohmann::json(energy)
+                         : nlohmann::json(nullptr)}};
 }
 
 const char* tangents_name(KozakKrajncTangents t) {
