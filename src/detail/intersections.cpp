@@ -157,9 +157,11 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
   // ends the search there (the test suite's pieces need at most ~3000 cells).
   bool overlap = false;
   std::size_t cells = 0;
+  const std::size_t max_cells = kMaxCells >> std::min<std::size_t>(ws.overlaps, 5);
   while (!stack.empty()) {
-    if (++cells > kMaxCells) {
+    if (++cells > max_cells) {
       overlap = true;
+      ++ws.overlaps;
       break;
     }
     const IntersectionWorkspace::Cell c = stack.back();
