@@ -16,6 +16,7 @@
 #include <cmath>
 #include <string>
 
+#include "detail/format.hpp"
 #include "detail/quadrature.hpp"
 #include "fairspline/error.hpp"
 
@@ -49,7 +50,7 @@ double linearized_energy(const CubicBezier& b, double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw Error(ErrorCode::kInvalidArgument,
                 "a spline piece must span a positive, finite parameter interval (got " +
-                    std::to_string(dt) + ")");
+                    detail::format_number(dt) + ")");
   double e = linearized_energy_local(b) / (dt * dt * dt);
   if (!(std::isfinite(e) && (e == 0.0 || e >= kTinyEnergy))) {
     // Coordinates near 1e±300 (or a parameter interval near 1e±100) overflow or underflow the

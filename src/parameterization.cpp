@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "detail/format.hpp"
 #include "detail/knots.hpp"
 #include "fairspline/error.hpp"
 
@@ -46,7 +47,7 @@ void alpha_knots(std::span<const Point> points, double alpha, bool closed, std::
   if (!(alpha >= 0.0 && alpha <= 1.0)) {
     throw Error(ErrorCode::kBadOption,
                 "alpha must be in [0, 1] (0 uniform, 0.5 centripetal, 1 chordal), got " +
-                    std::to_string(alpha));
+                    detail::format_number(alpha));
   }
   if (points.size() < (closed ? 3u : 2u)) {
     throw Error(ErrorCode::kTooFewPoints, closed ? "a closed curve needs at least 3 points"

@@ -487,5 +487,19 @@ TEST(Extremes, GivenTangentsOfExtremeLength) {
   }
 }
 
+// ---- messages ----
+
+TEST(Extremes, ErrorMessagesPrintNumbersShortly) {
+  // Numbers in messages are the shortest text that reads back as the same double: 1e308 was
+  // 309 digits and 1e-7 "0.000000" with std::to_string.
+  const FitInput in = input_of({{0, 0}, {1e308, 1e-7}, {1e308, 1e-7}, {2, 0}});
+  const Error e = testing::expect_error(ErrorCode::kRepeatedPoint, [&] { fit("jaklic-zagar", in); },
+                                        {"point 2 (1e+308, 1e-07) repeats point 1"});
+  EXPECT_LT(std::string(e.what()).size(), 100u) << e.what();
+  FitInput bad_alpha = input_of(wave(1.0));
+  bad_alpha.alpha = -1e-300;
+  testing::expect_error(ErrorCode::kBadOption, [&] { fit("li-strain", bad_alpha); }, {"-1e-300"});
+}
+
 }  // namespace
 }  // namespace fairspline

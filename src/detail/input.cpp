@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detail/finite.hpp"
+#include "detail/format.hpp"
 #include "detail/knots.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
@@ -16,8 +17,7 @@ namespace fairspline::detail {
 
 namespace {
 std::string point_text(std::size_t i, Point p) {
-  return "point " + std::to_string(i) + " (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
-         ")";
+  return "point " + std::to_string(i) + " " + format_point(p);
 }
 }  // namespace
 

@@ -15,6 +15,7 @@
 #endif
 
 #include "detail/finite.hpp"
+#include "detail/format.hpp"
 #include "detail/input.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
@@ -215,7 +216,7 @@ double optimal_lambda_of(const Chord& A, const Chord& B, double c, double s) {
 }
 
 std::string fmt_point(Vec2 v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ")";
+  return detail::format_point(v);
 }
 
 [[noreturn]] void throw_reversal(std::size_t index) {
@@ -336,8 +337,8 @@ void insert_at_reversals(Problem& pb, const FitInput& input) {
 Problem prepare(const FitInput& input, const JaklicZagarOptions& options, FitResult& out) {
   auto bad_lambda = [](double v, const std::string& what, std::optional<std::size_t> index) {
     throw Error(ErrorCode::kBadOption,
-                what + " must be a number in the open interval (0, 1), got " + std::to_string(v) +
-                    " (0 and 1 make a tangent length alpha* vanish)",
+                what + " must be a number in the open interval (0, 1), got " +
+                    detail::format_number(v) + " (0 and 1 make a tangent length alpha* vanish)",
                 index);
   };
   NodeSpec global;
@@ -819,7 +820,7 @@ Vec2 jaklic_zagar_direction(Vec2 a, Vec2 b, double lambda) {
   check_chords(a, b, 1.0, 1.0);
   if (!(lambda >= 0.0 && lambda <= 1.0)) {
     throw Error(ErrorCode::kInvalidArgument,
-                "lambda must be in [0, 1], got " + std::to_string(lambda));
+                "lambda must be in [0, 1], got " + detail::format_number(lambda));
   }
   const Chord A = make_chord({0.0, 0.0}, a, 1.0), B = make_chord({0.0, 0.0}, b, 1.0);
   const double c = dot(A.unit, B.unit), s = cross(A.unit, B.unit);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detail/finite.hpp"
+#include "detail/format.hpp"
 #include "detail/input.hpp"
 #include "detail/tridiagonal.hpp"
 #include "fairspline/error.hpp"
@@ -260,8 +261,8 @@ std::string describe(const XiSet& s) {
   std::string r;
   for (const XiInterval& x : s) {
     if (!r.empty()) r += " ∪ ";
-    r += x.point ? "{" + std::to_string(x.lo) + "}"
-                 : "(" + std::to_string(x.lo) + ", " + std::to_string(x.hi) + ")";
+    r += x.point ? "{" + detail::format_number(x.lo) + "}"
+                 : "(" + detail::format_number(x.lo) + ", " + detail::format_number(x.hi) + ")";
   }
   return r.empty() ? "∅" : r;
 }
@@ -349,7 +350,7 @@ KozakKrajncSweep sweep(const Geometry& g, std::span<const std::optional<double>>
       if (!s.I[l].contains(*fixed[l])) {
         throw Error(ErrorCode::kInfeasible,
                     "kozak-krajnc: the prescribed tangent at " + pt(3 * l) +
-                        " (ξ = " + std::to_string(*fixed[l]) +
+                        " (ξ = " + detail::format_number(*fixed[l]) +
                         ") makes a constant μ non-positive; Iℓ = " + describe(b),
                     3 * l);
       }

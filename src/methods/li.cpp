@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "detail/finite.hpp"
+#include "detail/format.hpp"
 #include "detail/input.hpp"
 #include "detail/tridiagonal.hpp"
 #include "fairspline/energy.hpp"
@@ -209,7 +210,7 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
   if (!(w1 >= 0.0 && w2 >= 0.0 && std::isfinite(w1) && std::isfinite(w2) && w1 + w2 > 0.0)) {
     throw Error(ErrorCode::kBadOption,
                 "Li weights must be finite and non-negative with a positive sum, got (" +
-                    std::to_string(w1) + ", " + std::to_string(w2) + ")");
+                    detail::format_number(w1) + ", " + detail::format_number(w2) + ")");
   }
   const std::size_t spans = detail::prepare_input(input, {2, 3, "the Li method"}, out);
   Problem pb;
