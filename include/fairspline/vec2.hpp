@@ -1,6 +1,7 @@
 // Vec2 / Point: the planar value type used everywhere in fairspline.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 namespace fairspline {
@@ -74,9 +75,12 @@ inline double distance(Point a, Point b) {
 constexpr Vec2 perp(Vec2 a) {
   return {-a.y, a.x};
 }
-/// Unit vector in the direction of a; a must be non-zero.
+/// Unit vector in the direction of a; a must be non-zero and finite. Divides by the largest
+/// component first, so denormal and huge vectors give a unit vector too (a / norm(a) of
+/// (5e-324, 5e-324) is (1, 1): the norm rounds to a denormal).
 inline Vec2 normalized(Vec2 a) {
-  return a / norm(a);
+  const Vec2 b = a / std::max(std::abs(a.x), std::abs(a.y));
+  return b / norm(b);
 }
 /// Polar angle of a in (-pi, pi].
 inline double angle(Vec2 a) {
@@ -84,7 +88,8 @@ inline double angle(Vec2 a) {
 }
 /// Signed angle from a to b in (-pi, pi]: positive when turning counter-clockwise.
 inline double signed_angle(Vec2 a, Vec2 b) {
-  return std::atan2(cross(a, b), dot(a, b));
+  const Vec2 u = normalized(a), v = normalized(b);  // no overflow of the products near 1e308
+  return std::atan2(cross(u, v), dot(u, v));
 }
 /// Unit vector at polar angle phi.
 inline Vec2 from_angle(double phi) {

@@ -470,7 +470,7 @@ std::vector<double> kozak_krajnc_select(std::span<const Point> points,
 namespace {
 
 Vec2 unit(Vec2 v) {
-  return (1.0 / norm(v)) * v;
+  return normalized(v);  // (1/|v|)·v overflows for a denormal v
 }
 
 struct PieceFit {

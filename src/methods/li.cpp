@@ -196,11 +196,13 @@ void solve_tangents(const Problem& pb, std::vector<Vec2>& m) {
   if (!detail::solve_cyclic_symmetric(off, diag, m)) throw_singular_numerics();
 }
 
-// Unit direction of v; |v| by sqrt(norm2) unless that could under/overflow.
+// Unit direction of v; |v| by sqrt(norm2) unless that could under/overflow. Otherwise v is
+// divided by its largest component first: v / hypot(v) of a denormal v like (5e-324, 5e-324)
+// is (1, 1), as hypot rounds to a denormal too (found by fuzz_fit).
 inline Vec2 unit(Vec2 v) {
   const double n2 = norm2(v);
   if (n2 > 1e-290 && n2 < 1e290) return (1.0 / std::sqrt(n2)) * v;
-  return v / norm(v);
+  return normalized(v);
 }
 
 }  // namespace
