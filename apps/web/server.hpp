@@ -4,18 +4,30 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 
 namespace fairspline::web {
 
+/// Default of ServerOptions::max_concurrent_fits: twice the hardware threads, at least 2.
+std::size_t default_max_concurrent_fits();
+
 struct ServerOptions {
   std::string host = "127.0.0.1";         ///< loopback only unless asked otherwise
   int port = 8080;                        ///< 0: any free port (see Server::bind)
   std::string root;                       ///< directory of the page and its assets; empty: none
-  std::size_t max_body_bytes = 8u << 20;  ///< larger requests get HTTP 413
+  std::size_t max_body_bytes = 8u << 20;  ///< larger requests get HTTP 413 (code "too_large")
   std::size_t max_points = 200000;        ///< larger fits get HTTP 400
+  /// A fit not answered within this many milliseconds of its arrival gets HTTP 503 (code
+  /// "timeout"); its computation goes on in the background, holding its slot. 0: no limit.
+  std::int64_t fit_time_limit_ms = 10000;
+  /// Fits computed at once, each on a thread of its own, counting those whose request timed
+  /// out. A request waits for a free slot within its time limit; it gets HTTP 503 (code
+  /// "busy") with Retry-After when none comes free, and at once when every slot is held by a
+  /// fit that went past the time limit. 0 is taken as 1.
+  std::size_t max_concurrent_fits = default_max_concurrent_fits();
 };
 
 /// An HTTP status and a JSON body.
@@ -25,6 +37,8 @@ struct ApiResponse {
   /// Wall time of parsing, fitting and serializing, in milliseconds (sent to the page as
   /// `Server-Timing: fit;dur=...`); 0 when not measured.
   double elapsed_ms = 0.0;
+  /// Seconds of a `Retry-After` header (0: none); set on the 503 "busy" answer.
+  int retry_after_s = 0;
 };
 
 /// GET /api/methods: {"default": name, "methods": [method_schema...]}.
@@ -36,7 +50,33 @@ ApiResponse handle_methods();
 /// fairspline::Error) → 400 with {"error": {"code", "message", "index"}}; never throws.
 ApiResponse handle_fit(std::string_view body, const ServerOptions& options);
 
-/// The HTTP server. Not copyable; stop() may be called from another thread.
+/// POST /api/fit under the server's time and concurrency limits (Server owns one; socket-free
+/// for tests). Each fit runs handle_fit on a thread of its own, with its own copy of the body,
+/// at most max_concurrent_fits at once; the caller waits at most fit_time_limit_ms from its
+/// call, for a slot and for the fit. Past the limit: 503 {"error": {"code": "timeout", ...}}
+/// while the fit finishes in the background and keeps its slot. No slot within the limit, or
+/// every slot held by such a timed-out fit: 503 "busy" with retry_after_s = 1 (the latter at
+/// once). Thread-safe; never throws.
+class FitRunner {
+ public:
+  explicit FitRunner(ServerOptions options);
+  /// Waits for the fits still running in the background (at most the length of one fit).
+  ~FitRunner();
+  FitRunner(const FitRunner&) = delete;
+  FitRunner& operator=(const FitRunner&) = delete;
+
+  ApiResponse fit(std::string_view body);
+  /// Fits being computed now, including those whose request has timed out.
+  std::size_t running() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The HTTP server: GET /api/methods, POST /api/fit through a FitRunner, the static files.
+/// Not copyable; stop() may be called from another thread. The destructor waits for fits
+/// still running in the background.
 class Server {
  public:
   explicit Server(ServerOptions options);
