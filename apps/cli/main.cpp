@@ -445,6 +445,23 @@ int run(int argc, char** argv) {
   serve->add_option("--root", sa.root, "Directory of the page and its assets");
   serve->add_option("--max-points", sa.max_points, "Largest fit accepted (default: 200000)")
       ->check(CLI::Range(std::size_t{2}, std::size_t{100'000'000}));
+  serve
+      ->add_option("--max-body-bytes", sa.max_body_bytes,
+                   "Largest request body accepted; larger ones get HTTP 413 (default: 8388608)")
+      ->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 40));
+  serve
+      ->add_option("--fit-time-limit-ms", sa.fit_time_limit_ms,
+                   "A fit not answered within this time gets HTTP 503 \"timeout\" and finishes "
+                   "in the background (default: 10000; 0: no limit)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{86'400'000}));
+  serve
+      ->add_option("--max-concurrent-fits", sa.max_concurrent_fits,
+                   "Fits computed at once, timed-out ones included; a request that gets no slot "
+                   "within the time limit, or finds every slot held by a timed-out fit, gets "
+                   "HTTP 503 \"busy\" with Retry-After (default: 2 x hardware threads, at "
+                   "least 2: " +
+                       std::to_string(fairspline::web::default_max_concurrent_fits()) + ")")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{4096}));
 
   try {
     app.parse(argc, argv);
