@@ -18,6 +18,11 @@ namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kUnbounded = std::numeric_limits<double>::max();
+/// Pieces whose differences of control points are within 2^±kPieceExponent are integrated
+/// directly (the curvature-variation integrand holds tenth powers of them).
+constexpr int kPieceExponent = 24;
+/// Subdivisions of one piece's regularity certificate (ordinary pieces need a few dozen).
+constexpr int kMaxCertificateSubdivisions = 4096;
 
 /// The certificate's length scale: the chord, or the control polygon when the piece is closed.
 double chord_scale(const CubicBezier& b) {
@@ -47,22 +52,31 @@ double origin_hull_distance(Vec2 h0, Vec2 h1, Vec2 h2) {
 RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
                               const detail::SpeedMinimum& m) {
   RegularityCertificate c;
-  const double scale = chord_scale(b);
-  if (!(scale > 0.0)) return c;  // a point: no speed at all
-  c.speed_min = m.speed / scale;
+  const double chord = chord_scale(b);
+  if (!(chord > 0.0)) return c;  // a point: no speed at all
+  c.speed_min = m.speed / chord;
   c.u_at_min = m.u;
+  // Everything below is relative to the piece's size: work on the hodograph scaled by a power
+  // of two (exact), so that the hull tests' cross products neither overflow (a piece 1e289
+  // long gave NaN, never accepted: 2^max_depth subdivisions, 1 s per piece; found by fuzz_fit)
+  // nor underflow.
+  QuadBezier h = b.hodograph();
+  double big = 0.0;
+  for (const Vec2& q : h.p) big = std::max({big, std::abs(q.x), std::abs(q.y)});
+  const int ex = big > 0.0 && std::isfinite(big) ? std::ilogb(big) : 0;
+  for (Vec2& q : h.p) q = {std::scalbn(q.x, -ex), std::scalbn(q.y, -ex)};
+  const double scale = std::scalbn(chord, -ex), speed = std::scalbn(m.speed, -ex);
   const double threshold = std::max(o.min_relative_speed, 0.0) * scale;
-  const QuadBezier h = b.hodograph();
   const double top = origin_hull_distance(h.p[0], h.p[1], h.p[2]);
-  if (!(m.speed > threshold)) {
+  if (!(speed > threshold)) {
     // A sampled speed is already below the threshold: no certificate can exist.
-    c.speed_lower = std::min(top, m.speed) / scale;
+    c.speed_lower = std::min(top, speed) / scale;
     return c;
   }
   // Depth-first subdivision of the hodograph. A sub-interval is accepted when its hull distance
   // (a lower bound of the speed there) exceeds the threshold and is within `tightness` of the
   // true minimum speed, so speed_lower is both proven and informative.
-  const double tight = std::clamp(o.certificate_tightness, 0.0, 1.0) * m.speed;
+  const double tight = std::clamp(o.certificate_tightness, 0.0, 1.0) * speed;
   const int max_depth = std::clamp(o.max_depth, 0, 60);
   struct Item {
     QuadBezier h;
@@ -75,7 +89,11 @@ RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
   while (top_index > 0) {
     const Item it = stack[--top_index];
     const double d = (it.depth == 0) ? top : origin_hull_distance(it.h.p[0], it.h.p[1], it.h.p[2]);
-    if ((d > threshold && d >= tight) || it.depth >= max_depth) {
+    // The subdivision budget bounds the work where the tightness goal cannot be met (a minimum
+    // speed computed with cancellation, found by fuzz_fit: 2^max_depth cells, 0.4 s per piece):
+    // the frontier's hull distances are still a proven lower bound, only a looser one.
+    if ((d > threshold && d >= tight) || it.depth >= max_depth ||
+        c.subdivisions >= kMaxCertificateSubdivisions) {
       lower = std::min(lower, d);
       continue;
     }
@@ -85,7 +103,7 @@ RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
     stack[top_index++] = {QuadBezier{{mid, e, it.h.p[2]}}, it.depth + 1};
     stack[top_index++] = {QuadBezier{{it.h.p[0], a, mid}}, it.depth + 1};
   }
-  c.speed_lower = std::min(lower, m.speed) / scale;
+  c.speed_lower = std::min(lower, speed) / scale;
   c.regular = lower > threshold;
   return c;
 }
@@ -336,8 +354,49 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
 
 namespace {
 
-/// The report of `s`, whose linearized energies are those of `energy_source` (the same pieces
-/// and knots at another scale; see make_report).
+/// A geometric quantity scaled back by 2^ex; one that no double can hold is an Error, not Inf.
+/// `size_ex`: the exponent of the size the quantity was computed at (for the message).
+double unscale(double v, int ex, int size_ex, const char* what) {
+  const double w = std::scalbn(v, ex);
+  if (!std::isfinite(w))
+    throw Error(ErrorCode::kNonFinite,
+                std::string("the ") + what +
+                    " of this curve is beyond double precision at the scale of its coordinates "
+                    "(pieces about 2^" +
+                    std::to_string(size_ex) +
+                    " long); rescale the points, or ask for the basic report, which omits it");
+  return w;
+}
+
+/// Bending, curvature-variation energy and length of one piece, in its own units. Pieces far
+/// from unit size (1e±300, or 1e-8 next to 1e8 in one curve) are integrated translated to the
+/// origin and scaled by a power of two to unit size: the integrands hold fifth and tenth powers
+/// of the derivatives, which over- or underflow otherwise. Length scales as size, bending as
+/// 1/size, curvature variation as 1/size³.
+detail::PieceEnergies piece_energies_in_units(const CubicBezier& b, const EnergyOptions& options) {
+  double big = 0.0;
+  for (int j = 1; j < 4; ++j) {
+    const Vec2 d = b.p[j] - b.p[j - 1];
+    big = std::max({big, std::abs(d.x), std::abs(d.y)});
+  }
+  const int ex = big > 0.0 && std::isfinite(big) ? std::ilogb(big) : 0;
+  if (std::abs(ex) <= kPieceExponent)
+    return detail::piece_energies(b, options, detail::min_speed(b));
+  CubicBezier u;
+  for (int j = 0; j < 4; ++j) {
+    const Vec2 d = b.p[j] - b.p[0];
+    u.p[j] = {std::scalbn(d.x, -ex), std::scalbn(d.y, -ex)};
+  }
+  detail::PieceEnergies e = detail::piece_energies(u, options, detail::min_speed(u));
+  e.length.value = unscale(e.length.value, ex, ex, "length");
+  e.bending.value = unscale(e.bending.value, -ex, ex, "bending energy");
+  e.curvature_variation.value =
+      unscale(e.curvature_variation.value, -3 * ex, ex, "curvature-variation energy");
+  return e;
+}
+
+/// The report of `s`, whose linearized energies and piece energies are those of `energy_source`
+/// (the same pieces and knots at another scale; see make_report).
 Report report_of(const Spline& s, const Spline& energy_source, std::span<const Point> points,
                  ReportLevel level, const DiagnosticsOptions& options) {
   Report r;
@@ -382,7 +441,8 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
       const double threshold = std::max(options.min_relative_speed, 0.0) * scale;
       sr.has_cusp = scale > 0.0 && !(m.speed > threshold);
       sr.has_fold = scale > 0.0 && fold(b, m, threshold);
-      const detail::PieceEnergies e = detail::piece_energies(b, options.energy, m);
+      const detail::PieceEnergies e =
+          piece_energies_in_units(energy_source.segments[k].bezier, options.energy);
       sr.bending_energy = e.bending.value;
       sr.curvature_variation_energy = e.curvature_variation.value;
       sr.length = e.length.value;
@@ -451,19 +511,6 @@ Point scaled(Point p, int ex) {
   return {std::scalbn(p.x, ex), std::scalbn(p.y, ex)};
 }
 
-/// A geometric quantity scaled back by 2^ex; one that no double can hold is an Error, not Inf.
-double unscale(double v, int ex, int coordinate_ex, const char* what) {
-  const double w = std::scalbn(v, ex);
-  if (!std::isfinite(w))
-    throw Error(ErrorCode::kNonFinite,
-                std::string("the ") + what +
-                    " of this curve is beyond double precision at the scale of its coordinates "
-                    "(about 2^" +
-                    std::to_string(coordinate_ex) +
-                    "); rescale the points, or ask for the basic report, which omits it");
-  return w;
-}
-
 /// Coordinates between 2^-kScaleExponent and 2^kScaleExponent are reported directly (the
 /// curvature-variation integrand holds tenth powers of coordinates). Scaling by a power of two
 /// commutes with every rounding, so the scaled path gives the same bits wherever nothing
@@ -490,20 +537,11 @@ Report make_report(const Spline& s, std::span<const Point> points, ReportLevel l
   std::vector<Point> unit_points(points.begin(), points.end());
   for (Point& p : unit_points) p = scaled(p, -ex);
   Report r = report_of(unit, s, unit_points, level, options);
+  // Curvature jumps and residuals come from the scaled copy; piece energies and lengths are
+  // already in the input's units (piece_energies_in_units).
   r.max_curvature_jump = unscale(r.max_curvature_jump, -ex, ex, "curvature jump");
   r.max_interpolation_residual =
       unscale(r.max_interpolation_residual, ex, ex, "interpolation residual");
-  if (r.bending_energy) r.bending_energy = unscale(*r.bending_energy, -ex, ex, "bending energy");
-  if (r.curvature_variation_energy)
-    r.curvature_variation_energy =
-        unscale(*r.curvature_variation_energy, -3 * ex, ex, "curvature-variation energy");
-  if (r.length) r.length = unscale(*r.length, ex, ex, "length");
-  for (SegmentReport& g : r.segments) {
-    g.bending_energy = unscale(g.bending_energy, -ex, ex, "bending energy");
-    g.curvature_variation_energy =
-        unscale(g.curvature_variation_energy, -3 * ex, ex, "curvature-variation energy");
-    g.length = unscale(g.length, ex, ex, "length");
-  }
   for (Intersection& x : r.intersections) x.point = scaled(x.point, ex);
   return r;
 }

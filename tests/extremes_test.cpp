@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fairspline/energy.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/registry.hpp"
@@ -291,6 +292,34 @@ TEST(Extremes, ReportIsScaleEquivariant) {
     }
     EXPECT_EQ(r.report->regular, r1.report->regular);
     EXPECT_NEAR(r.report->min_relative_speed, r1.report->min_relative_speed, 1e-12);
+  }
+}
+
+TEST(Extremes, ReportOfPiecesOfVeryDifferentSizes) {
+  // Each piece's energies are integrated at its own scale (exactly rescaled by a power of two):
+  // in one curve with pieces of size 2^-300 and 2^300, each piece's bending energy, length and
+  // curvature variation equal those of the same piece scaled to unit size, scaled back.
+  const FitInput in =
+      input_of({{0, 0}, {0x1p-300, 0x1p-301}, {0x1p-299, 0}, {0x1p300, 0x1p299}, {0x1p301, 0}});
+  const FitResult r = fit("jaklic-zagar", in);
+  ASSERT_TRUE(r.report);
+  EXPECT_TRUE(r.report->regular);
+  for (std::size_t k : {std::size_t{0}, std::size_t{3}}) {
+    SCOPED_TRACE(k);
+    const int ex = k == 0 ? -300 : 300;
+    CubicBezier unit_piece;
+    const CubicBezier& b = r.spline.segments[k].bezier;
+    for (int j = 0; j < 4; ++j)
+      unit_piece.p[j] = {std::ldexp(b.p[j].x - b.p[0].x, -ex),
+                         std::ldexp(b.p[j].y - b.p[0].y, -ex)};
+    const SegmentReport& g = r.report->segments[k];
+    const double bend = bending_energy(unit_piece).value, len = arc_length(unit_piece).value;
+    EXPECT_NEAR(std::ldexp(g.bending_energy, ex), bend, 1e-12 * bend);
+    EXPECT_NEAR(std::ldexp(g.length, -ex), len, 1e-12 * len);
+    if (k == 3) {
+      const double var = curvature_variation_energy(unit_piece).value;
+      EXPECT_NEAR(std::ldexp(g.curvature_variation_energy, 3 * ex), var, 1e-12 * var);
+    }
   }
 }
 
