@@ -1,0 +1,110 @@
+// Work proportional to n for every registered method (issue 9: "no fit runs longer than a bound
+// proportional to n"). Each method fits a gentle wave (which every method accepts, kozak-krajnc
+// included: 3m + 1 points) at n = 1e3 .. 1e6 points without a report; Google Benchmark fits
+// time = c·n and prints the coefficient and the RMS of the relative residuals
+// (scaling/<method>_BigO, _RMS): an RMS of a few percent means linear time.
+//   scaling/<method>/<n>          fit, ReportLevel::kNone
+//   scaling-report/<method>/<n>   fit + full report (self-intersection search included)
+//   retrace-report/<n>            full report of a curve that retraces itself n times (points
+//                                 alternating between two places: O(n²) coinciding pairs, each
+//                                 searched with a shrinking cell budget)
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <nlohmann/json.hpp>
+
+#include "fairspline/fit.hpp"
+#include "fairspline/registry.hpp"
+
+namespace {
+
+using fairspline::FitInput;
+using fairspline::FitResult;
+using fairspline::ReportLevel;
+
+FitInput wave(std::size_t n) {
+  FitInput in;
+  in.points.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = static_cast<double>(i);
+    in.points.push_back({0.5 * x, std::sin(0.05 * x)});
+  }
+  return in;
+}
+
+nlohmann::json options_for(const std::string& method) {
+  if (method == "yong-cheng") return {{"tangents_from", "jaklic-zagar"}};
+  return nlohmann::json::object();
+}
+
+FitInput input_for(const std::string& method, std::size_t n) {
+  FitInput in = wave(n);
+  if (method == "li-curvature-variation") in.start_tangent = fairspline::Vec2{1.0, 0.0};
+  return in;
+}
+
+void bm_fit(benchmark::State& state, const std::string& method, ReportLevel level) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const FitInput in = input_for(method, n);
+  const nlohmann::json options = options_for(method);
+  FitResult out;
+  for (auto _ : state) {
+    fairspline::fit_into(method, in, options, level, out);
+    benchmark::DoNotOptimize(out.spline.segments.data());
+  }
+  state.SetComplexityN(state.range(0));
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(n));
+}
+
+void bm_retrace(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  FitInput in;
+  in.closed = true;
+  in.points = {{0, 0}, {129, 0}, {131.625, 64.5}, {154.75, 28532}, {14769.5, 13896.5}};
+  for (std::size_t i = 0; i < n; ++i) {
+    in.points.push_back(i % 2 == 0 ? fairspline::Point{29384.25, -739}
+                                   : fairspline::Point{43999, -15374.5});
+  }
+  FitResult out;
+  for (auto _ : state) {
+    fairspline::fit_into("min-energy", in, nlohmann::json::object(), ReportLevel::kFull, out);
+    benchmark::DoNotOptimize(out.report->intersections.data());
+  }
+  state.SetComplexityN(state.range(0));
+}
+
+[[maybe_unused]] const bool kRegistered = [] {
+  for (const fairspline::MethodInfo& m : fairspline::methods()) {
+    benchmark::RegisterBenchmark(
+        ("scaling/" + m.name).c_str(),
+        [name = m.name](benchmark::State& s) { bm_fit(s, name, ReportLevel::kNone); })
+        ->Arg(1'000)
+        ->Arg(10'000)
+        ->Arg(100'000)
+        ->Arg(1'000'000)
+        ->Complexity(benchmark::oN)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(
+        ("scaling-report/" + m.name).c_str(),
+        [name = m.name](benchmark::State& s) { bm_fit(s, name, ReportLevel::kFull); })
+        ->Arg(1'000)
+        ->Arg(10'000)
+        ->Arg(100'000)
+        ->Complexity(benchmark::oN)
+        ->Unit(benchmark::kMillisecond);
+  }
+  benchmark::RegisterBenchmark("retrace-report", bm_retrace)
+      ->Arg(40)
+      ->Arg(80)
+      ->Arg(160)
+      ->Complexity()
+      ->Unit(benchmark::kMillisecond);
+  return true;
+}();
+
+}  // namespace
