@@ -78,25 +78,19 @@ void bm_retrace(benchmark::State& state) {
   state.SetComplexityN(state.range(0));
 }
 
+void register_scaling(const std::string& prefix, const std::string& method, ReportLevel level,
+                      std::int64_t max_n) {
+  auto* b = benchmark::RegisterBenchmark(
+      (prefix + method).c_str(),
+      [method, level](benchmark::State& s) { bm_fit(s, method, level); });
+  for (std::int64_t n = 1'000; n <= max_n; n *= 10) b->Arg(n);
+  b->Complexity(benchmark::oN)->Unit(benchmark::kMillisecond);
+}
+
 [[maybe_unused]] const bool kRegistered = [] {
   for (const fairspline::MethodInfo& m : fairspline::methods()) {
-    benchmark::RegisterBenchmark(
-        ("scaling/" + m.name).c_str(),
-        [name = m.name](benchmark::State& s) { bm_fit(s, name, ReportLevel::kNone); })
-        ->Arg(1'000)
-        ->Arg(10'000)
-        ->Arg(100'000)
-        ->Arg(1'000'000)
-        ->Complexity(benchmark::oN)
-        ->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(
-        ("scaling-report/" + m.name).c_str(),
-        [name = m.name](benchmark::State& s) { bm_fit(s, name, ReportLevel::kFull); })
-        ->Arg(1'000)
-        ->Arg(10'000)
-        ->Arg(100'000)
-        ->Complexity(benchmark::oN)
-        ->Unit(benchmark::kMillisecond);
+    register_scaling("scaling/", m.name, ReportLevel::kNone, 1'000'000);
+    register_scaling("scaling-report/", m.name, ReportLevel::kFull, 100'000);
   }
   benchmark::RegisterBenchmark("retrace-report", bm_retrace)
       ->Arg(40)
