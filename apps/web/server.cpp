@@ -130,13 +130,10 @@ struct FitRunner::Impl {
       if (queue.empty()) return;  // stopping, and nothing left to do
       const std::shared_ptr<Job> job = std::move(queue.front());
       queue.pop_front();
-      ApiResponse r;
-      if (!job->abandoned) {  // (a job queued so long that its request gave up is skipped)
-        lock.unlock();
-        r = handle_fit(job->body, options);
-        std::string().swap(job->body);  // only this thread reads it
-        lock.lock();
-      }
+      lock.unlock();
+      ApiResponse r = handle_fit(job->body, options);
+      std::string().swap(job->body);  // only this thread reads it
+      lock.lock();
       if (job->abandoned) {
         --abandoned;
       } else {
