@@ -28,7 +28,7 @@ json error_of(const ApiResponse& r) {
 }
 
 /// A request that takes far longer than a millisecond anywhere: 20000 points with the full
-/// report (about 1 s in a Release build on the 2-core build VM, 4 s under ASan; 500 kB in).
+/// report (0.4-1 s in a Release build on the 2-core build VM, 4 s under ASan; 500 kB in).
 std::string slow_request() {
   json points = json::array();
   for (const Point& p : testing::random_walk(20000, 7)) points.push_back({p.x, p.y});
