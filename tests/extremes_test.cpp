@@ -328,6 +328,30 @@ TEST(Extremes, ReportOfPiecesOfVeryDifferentSizes) {
   }
 }
 
+TEST(Extremes, ChordsBeyondTheDoubleRange) {
+  // Chord lengths between ±DBL_MAX overflow (uniform knots do not): a valid curve or a clear
+  // Error for every method and knot exponent (min-energy took ilogb(0) = INT_MIN and negated
+  // it: undefined behaviour found by fuzz_fit).
+  const double big = std::numeric_limits<double>::max();
+  for (double alpha : {0.0, 0.5, 1.0}) {
+    for (bool closed : {false, true}) {
+      Case c =
+          make_case("chords beyond DBL_MAX", {{0.2, 13.8}, {big, big}, {0.2, 13.8}, {-big, big}});
+      c.closed = closed;
+      for (const MethodInfo& m : methods()) {
+        SCOPED_TRACE(m.name + " alpha " + sci(alpha) + (closed ? " closed" : ""));
+        FitInput in = input_for(m.name, c);
+        in.alpha = alpha;
+        try {
+          check_curve(m.name, c, fit(m.name, in, options_for(m.name)));
+        } catch (const Error& e) {
+          check_error(m.name, c, e);
+        }
+      }
+    }
+  }
+}
+
 TEST(Extremes, MixedScales) {
   // Chords from 1e-8 to 1e8 in one input (ratio 1e16).
   std::vector<Point> p;

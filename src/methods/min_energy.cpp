@@ -675,7 +675,9 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     // restore them for the report.
     double wmax = 0.0;
     for (double w : ch.w) wmax = std::max(wmax, w);
-    const int wexp = std::ilogb(wmax);
+    // (No rescaling when the weights are not normal numbers: a chord of Inf length has weight 0,
+    // and ilogb(0) is INT_MIN; found by fuzz_fit under UBSan. The fit then fails cleanly.)
+    const int wexp = std::isnormal(wmax) ? std::ilogb(wmax) : 0;
     for (double& w : ch.w) w = std::scalbn(w, -wexp);
     const ChainResult r = optimize(ch, options, std::scalbn(wmax, -wexp));
     for (double& w : ch.w) w = std::scalbn(w, wexp);
