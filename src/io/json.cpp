@@ -30,7 +30,13 @@ std::string indexed(std::string_view field, std::size_t i) {
 /// Short text of a JSON value for messages.
 std::string preview(const json& v) {
   std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  if (s.size() > 60) {
+    // Cut at a character boundary: a multi-byte UTF-8 character split at byte 57 made the
+    // message invalid UTF-8, which the server could not write as JSON (found by fuzz_json).
+    std::size_t cut = 57;
+    while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
+    s = s.substr(0, cut) + "...";
+  }
   return s;
 }
 

@@ -178,6 +178,23 @@ TEST(JsonInput, SyntaxErrorQuotingInvalidUtf8IsWritableAsJson) {
   EXPECT_NO_THROW((void)error_to_json(e).dump());
 }
 
+// Found by fuzz_json (tests/fuzz/corpus/fuzz_json/regression-preview-splits-utf8): the preview
+// of a bad value cut a long string at byte 57, inside a two-byte character.
+TEST(JsonInput, PreviewOfALongValueCutsAtACharacterBoundary) {
+  for (std::size_t pad = 52; pad < 60; ++pad) {  // > 60 bytes; cut at each byte
+    SCOPED_TRACE(pad);
+    std::string body(1, '"');  // (appended: GCC 12 warns -Wrestrict on "\"" + …)
+    body += std::string(pad, 'I');
+    body +=
+        "\xd5\xa4\xd5\xa4\xd5\xa4"
+        "f\"";
+    const Error e = expect_error([&] { parse_json_input(body); });
+    EXPECT_EQ(e.code(), ErrorCode::kParseError);
+    EXPECT_NE(std::string(e.what()).find("..."), std::string::npos) << e.what();
+    EXPECT_NO_THROW((void)error_to_json(e).dump());
+  }
+}
+
 TEST(JsonInput, DeepNestingIsRejectedWithoutCrashing) {
   const std::string deep =
       "{\"points\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
