@@ -8,9 +8,11 @@
 
 #include <chrono>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -34,6 +36,36 @@ std::string slow_request() {
   for (const Point& p : testing::random_walk(20000, 7)) points.push_back({p.x, p.y});
   return json{{"points", points}, {"method", "min-energy"}}.dump();
 }
+
+/// A Server on a free loopback port, serving on its own thread until the end of the scope (also
+/// when an ASSERT returns early), and a client of it.
+class LiveServer {
+ public:
+  explicit LiveServer(ServerOptions opt) : server_(on_free_port(std::move(opt))) {
+    port_ = server_.bind();
+    if (port_ > 0) thread_ = std::thread([this] { server_.run(); });
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);
+    client_->set_connection_timeout(5);
+  }
+  ~LiveServer() {
+    server_.stop();  // (waits for fits still running in the background)
+    if (thread_.joinable()) thread_.join();
+  }
+  LiveServer(const LiveServer&) = delete;
+  LiveServer& operator=(const LiveServer&) = delete;
+  int port() const { return port_; }
+  httplib::Client& client() { return *client_; }
+
+ private:
+  static ServerOptions on_free_port(ServerOptions opt) {
+    opt.port = 0;
+    return opt;
+  }
+  Server server_;
+  int port_ = -1;
+  std::thread thread_;
+  std::unique_ptr<httplib::Client> client_;
+};
 
 /// Waits (up to a minute) until the runner has no fit left in the background.
 void wait_until_idle(const FitRunner& runner) {
@@ -208,15 +240,11 @@ TEST(FitRunner, ManyThreadsAtOnceAllGetTheirOwnAnswer) {
 
 TEST(WebApi, HttpRoundTripOnAFreeLoopbackPort) {
   ServerOptions opt;
-  opt.port = 0;
   opt.max_body_bytes = 4096;
   opt.max_points = 5;
-  Server server(opt);
-  const int port = server.bind();
-  ASSERT_GT(port, 0);
-  std::thread thread([&server] { server.run(); });
-  httplib::Client client("127.0.0.1", port);
-  client.set_connection_timeout(5);
+  LiveServer live(opt);
+  ASSERT_GT(live.port(), 0);
+  httplib::Client& client = live.client();
   auto methods = client.Get("/api/methods");
   ASSERT_TRUE(methods);
   EXPECT_EQ(methods->status, 200);
@@ -269,13 +297,10 @@ TEST(WebApi, HttpRoundTripOnAFreeLoopbackPort) {
   // httplib caps form-encoded bodies (curl's default type) at 8 kB, whatever our limit: the
   // message says what to do instead of quoting a limit the body did not exceed.
   opt.max_body_bytes = 1 << 20;
-  Server roomy(opt);
-  const int roomy_port = roomy.bind();
-  ASSERT_GT(roomy_port, 0);
-  std::thread roomy_thread([&roomy] { roomy.run(); });
-  httplib::Client roomy_client("127.0.0.1", roomy_port);
+  LiveServer roomy(opt);
+  ASSERT_GT(roomy.port(), 0);
   auto form =
-      roomy_client.Post("/api/fit", std::string(10000, ' '), "application/x-www-form-urlencoded");
+      roomy.client().Post("/api/fit", std::string(10000, ' '), "application/x-www-form-urlencoded");
   ASSERT_TRUE(form);
   EXPECT_EQ(form->status, 413);
   const std::string form_message = error_of({form->status, form->body}).at("message");
@@ -283,26 +308,18 @@ TEST(WebApi, HttpRoundTripOnAFreeLoopbackPort) {
                               "have at most 8192 bytes: send it as application/json"),
             std::string::npos)
       << form_message;
-  roomy.stop();
-  roomy_thread.join();
   auto missing = client.Get("/api/nothing");
   ASSERT_TRUE(missing);
   EXPECT_EQ(missing->status, 404);
-  server.stop();
-  thread.join();
 }
 
 TEST(WebApi, HttpTimeoutAndBusyAre503WithRetryAfter) {
   ServerOptions opt;
-  opt.port = 0;
   opt.fit_time_limit_ms = 1;
   opt.max_concurrent_fits = 1;
-  Server server(opt);
-  const int port = server.bind();
-  ASSERT_GT(port, 0);
-  std::thread thread([&server] { server.run(); });
-  httplib::Client client("127.0.0.1", port);
-  client.set_connection_timeout(5);
+  LiveServer live(opt);
+  ASSERT_GT(live.port(), 0);
+  httplib::Client& client = live.client();
   auto slow = client.Post("/api/fit", slow_request(), "application/json");
   ASSERT_TRUE(slow);
   EXPECT_EQ(slow->status, 503);
@@ -314,9 +331,6 @@ TEST(WebApi, HttpTimeoutAndBusyAre503WithRetryAfter) {
   EXPECT_EQ(busy->status, 503);
   EXPECT_EQ(error_of({busy->status, busy->body}).at("code"), "busy");
   EXPECT_EQ(busy->get_header_value("Retry-After"), "1");
-  server.stop();
-  thread.join();
-  // (~Server waits for the slow fit, still running in the background.)
 }
 
 /// The codes that exist only at the HTTP layer are documented with the others (they have no
