@@ -11,6 +11,7 @@
 
 #include "detail/intersections.hpp"
 #include "detail/quadrature.hpp"
+#include "detail/scale.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline {
@@ -61,10 +62,8 @@ RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
   // long gave NaN, never accepted: 2^max_depth subdivisions, 1 s per piece; found by fuzz_fit)
   // nor underflow.
   QuadBezier h = b.hodograph();
-  double big = 0.0;
-  for (const Vec2& q : h.p) big = std::max({big, std::abs(q.x), std::abs(q.y)});
-  const int ex = big > 0.0 && std::isfinite(big) ? std::ilogb(big) : 0;
-  for (Vec2& q : h.p) q = {std::scalbn(q.x, -ex), std::scalbn(q.y, -ex)};
+  const int ex = detail::scale_exponent(h.p);
+  for (Vec2& q : h.p) q = detail::scaled(q, -ex);
   const double scale = std::scalbn(chord, -ex), speed = std::scalbn(m.speed, -ex);
   const double threshold = std::max(o.min_relative_speed, 0.0) * scale;
   const double top = origin_hull_distance(h.p[0], h.p[1], h.p[2]);
@@ -374,19 +373,12 @@ double unscale(double v, int ex, int size_ex, const char* what) {
 /// of the derivatives, which over- or underflow otherwise. Length scales as size, bending as
 /// 1/size, curvature variation as 1/size³.
 detail::PieceEnergies piece_energies_in_units(const CubicBezier& b, const EnergyOptions& options) {
-  double big = 0.0;
-  for (int j = 1; j < 4; ++j) {
-    const Vec2 d = b.p[j] - b.p[j - 1];
-    big = std::max({big, std::abs(d.x), std::abs(d.y)});
-  }
-  const int ex = big > 0.0 && std::isfinite(big) ? std::ilogb(big) : 0;
+  const std::array<Vec2, 3> legs{b.p[1] - b.p[0], b.p[2] - b.p[1], b.p[3] - b.p[2]};
+  const int ex = detail::scale_exponent(legs);
   if (std::abs(ex) <= kPieceExponent)
     return detail::piece_energies(b, options, detail::min_speed(b));
   CubicBezier u;
-  for (int j = 0; j < 4; ++j) {
-    const Vec2 d = b.p[j] - b.p[0];
-    u.p[j] = {std::scalbn(d.x, -ex), std::scalbn(d.y, -ex)};
-  }
+  for (int j = 0; j < 4; ++j) u.p[j] = detail::scaled(b.p[j] - b.p[0], -ex);
   detail::PieceEnergies e = detail::piece_energies(u, options, detail::min_speed(u));
   e.length.value = unscale(e.length.value, ex, ex, "length");
   e.bending.value = unscale(e.bending.value, -ex, ex, "bending energy");
@@ -507,10 +499,6 @@ double coordinate_scale(const Spline& s) {
   return big;
 }
 
-Point scaled(Point p, int ex) {
-  return {std::scalbn(p.x, ex), std::scalbn(p.y, ex)};
-}
-
 /// Coordinates between 2^-kScaleExponent and 2^kScaleExponent are reported directly (the
 /// curvature-variation integrand holds tenth powers of coordinates). Scaling by a power of two
 /// commutes with every rounding, so the scaled path gives the same bits wherever nothing
@@ -521,10 +509,10 @@ constexpr int kScaleExponent = 24;
 
 // Quantities of curves with coordinates near 1e±300 (squares of 1e300 overflow, of 1e-300
 // underflow) are computed on a copy scaled by a power of two, which is exact, and scaled back:
-// lengths and residuals by 2^ex, curvatures and bending energy by 2^-ex, the curvature-variation
-// energy by 2^-3ex; angles, relative speeds and the flags do not change with scale. The
-// linearized energy depends on the knots too and is computed from the original pieces
-// (linearized_energy scales internally).
+// residuals by 2^ex, curvature jumps by 2^-ex; angles, relative speeds and the flags do not
+// change with scale. Piece energies and lengths come from the original pieces, each at its own
+// scale (piece_energies_in_units), and so does the linearized energy, which depends on the
+// knots too (linearized_energy scales internally).
 Report make_report(const Spline& s, std::span<const Point> points, ReportLevel level,
                    const DiagnosticsOptions& options) {
   const double big = coordinate_scale(s);
@@ -533,16 +521,16 @@ Report make_report(const Spline& s, std::span<const Point> points, ReportLevel l
   const int ex = std::ilogb(big);
   Spline unit = s;
   for (Segment& g : unit.segments)
-    for (Point& p : g.bezier.p) p = scaled(p, -ex);
+    for (Point& p : g.bezier.p) p = detail::scaled(p, -ex);
   std::vector<Point> unit_points(points.begin(), points.end());
-  for (Point& p : unit_points) p = scaled(p, -ex);
+  for (Point& p : unit_points) p = detail::scaled(p, -ex);
   Report r = report_of(unit, s, unit_points, level, options);
   // Curvature jumps and residuals come from the scaled copy; piece energies and lengths are
   // already in the input's units (piece_energies_in_units).
   r.max_curvature_jump = unscale(r.max_curvature_jump, -ex, ex, "curvature jump");
   r.max_interpolation_residual =
       unscale(r.max_interpolation_residual, ex, ex, "interpolation residual");
-  for (Intersection& x : r.intersections) x.point = scaled(x.point, ex);
+  for (Intersection& x : r.intersections) x.point = detail::scaled(x.point, ex);
   return r;
 }
 

@@ -18,6 +18,7 @@
 
 #include "detail/format.hpp"
 #include "detail/quadrature.hpp"
+#include "detail/scale.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline {
@@ -34,12 +35,9 @@ namespace {
 constexpr double kTinyEnergy = 1e-250;
 
 double linearized_energy_scaled(const CubicBezier& b, double dt) {
-  double big = 0.0;
-  for (const Point& p : b.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
-  if (big == 0.0 || !std::isfinite(big)) return big == 0.0 ? 0.0 : big;
-  const int ex = std::ilogb(big);
+  const int ex = detail::scale_exponent(b.p);
   CubicBezier u;
-  for (int j = 0; j < 4; ++j) u.p[j] = {std::scalbn(b.p[j].x, -ex), std::scalbn(b.p[j].y, -ex)};
+  for (int j = 0; j < 4; ++j) u.p[j] = detail::scaled(b.p[j], -ex);
   const double r = std::scalbn(std::sqrt(linearized_energy_local(u)), ex) / dt / std::sqrt(dt);
   return r * r;
 }
