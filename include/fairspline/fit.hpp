@@ -87,6 +87,24 @@ struct Report {
   std::vector<Intersection> intersections;  ///< full level only
 };
 
+/// How an iterative step of a method ended.
+enum class SolverStatus {
+  kConverged,          ///< the stopping test holds at the returned point
+  kConditioningLimit,  ///< the tolerance is below what double precision allows at this
+                       ///< conditioning; the point is optimal to that limit (not an error)
+  kIterationLimit,  ///< stopped at the iteration cap (returned only with FitOptions::best_effort)
+};
+
+/// The outcome of a method's iterative step (min-energy's projected Newton, Kozak–Krajnc's G2
+/// Newton, ...), the same for every method that has one.
+struct SolverReport {
+  SolverStatus status = SolverStatus::kConverged;
+  int iterations = 0;
+  double residual = 0.0;            ///< final value of the stopping test's quantity
+  double tolerance = 0.0;           ///< what it had to reach
+  std::vector<std::size_t> active;  ///< points whose unknowns sit on a bound (constraint)
+};
+
 /// What every method returns.
 struct FitResult {
   std::string method;
@@ -97,7 +115,25 @@ struct FitResult {
   std::vector<Vec2> tangents;                         ///< unit tangent direction at each point
   Spline spline;
   std::optional<Report> report;
+  /// The iterative step's outcome; nullopt for methods that are closed-form.
+  std::optional<SolverReport> solver;
   nlohmann::json method_report = nlohmann::json::object();
+};
+
+/// How a fit runs and what it reports, the same for every method.
+struct FitOptions {
+  ReportLevel level = ReportLevel::kFull;
+  /// Relative accuracy of every approximation: quadratures of the report, the intersection
+  /// search, approximations of non-polynomial curves by Béziers. Relative to the quantity
+  /// (energies) or to the piece's size (geometry).
+  double accuracy = kDefaultAccuracy;
+  /// Per-node and per-segment entries in method_report (false: only its O(1) summary).
+  bool diagnostics = true;
+  /// A solver that stops at its iteration cap returns its curve with status kIterationLimit
+  /// instead of throwing Error(kNotConverged).
+  bool best_effort = false;
+
+  static constexpr double kDefaultAccuracy = 1e-9;
 };
 
 }  // namespace fairspline
