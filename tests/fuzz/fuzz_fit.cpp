@@ -1,6 +1,9 @@
 // Fuzz target: fit() over every registered method with fuzzed points, tangents, kinds, knots,
 // end tangents and options built from the method's schema. The promise: a valid curve whose
 // every number is finite, or a fairspline::Error; anything else aborts.
+// An input names its method (docs/fuzzing.md): the bytes up to the first NUL are the method's
+// name, so that registering a method never changes what a committed input does. A name that is
+// not registered must give Error(kUnknownMethod), and nothing else is decoded.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -8,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -141,11 +145,9 @@ json valid_value(ByteReader& in, const OptionSpec& s, std::size_t n) {
       }
     case OptionType::kChoice:
       return s.choices.empty() ? json("") : json(s.choices[in.range(0, s.choices.size() - 1)]);
-    case OptionType::kString: {
-      const auto& all = fairspline::methods();
-      if (in.byte() < 200) return all[in.range(0, all.size() - 1)].name;
+    case OptionType::kString:  // usually a name like the input's method (e.g. tangents_from)
+      if (in.byte() < 200) return in.name(fairspline::fuzz::kMaxNameLength);
       return in.string(16);
-    }
     case OptionType::kNumberList: {
       json a = json::array();
       const std::size_t k = count_near(in, in.boolean() ? n : 2);
@@ -264,10 +266,33 @@ void check_reuse(const std::string& method, const FitInput& in, const json& opti
   }
 }
 
-/// With FUZZ_FIT_PRINT set, the decoded request is printed (to reproduce a finding by hand).
-void print_request(const std::string& method, const FitInput& in, const json& options) {
-  const auto vec = [](Vec2 v) { return json::array({v.x, v.y}); };
-  json j = {{"method", method}, {"closed", in.closed}, {"alpha", in.alpha}, {"options", options}};
+/// A number for the printed request: finite ones as JSON numbers (which print to the last bit),
+/// NaN and ±Inf, which JSON lacks, as the strings "NaN", "Infinity", "-Infinity".
+json exact(double x) {
+  if (std::isnan(x)) return "NaN";
+  if (std::isinf(x)) return x > 0 ? "Infinity" : "-Infinity";
+  return x;
+}
+
+/// `j` with every non-finite number replaced by its string (see exact()).
+json exact_json(const json& j) {
+  if (j.is_number_float()) return exact(j.get<double>());
+  if (!j.is_structured()) return j;
+  json out = j;
+  for (auto& v : out) v = exact_json(v);
+  return out;
+}
+
+/// With FUZZ_FIT_PRINT set, the decoded request is printed as one line of JSON (to reproduce a
+/// finding by hand, and to check that an input decodes to the same request after a format
+/// change). Strings that are not UTF-8 are printed with U+FFFD in place of the bad bytes.
+void print_request(const std::string& method, bool reuse, const FitInput& in, const json& options) {
+  const auto vec = [](Vec2 v) { return json::array({exact(v.x), exact(v.y)}); };
+  json j = {{"method", method},
+            {"reuse", reuse},
+            {"closed", in.closed},
+            {"alpha", exact(in.alpha)},
+            {"options", exact_json(options)}};
   json pts = json::array();
   for (const Point& p : in.points) pts.push_back(vec(p));
   j["points"] = pts;
@@ -281,25 +306,75 @@ void print_request(const std::string& method, const FitInput& in, const json& op
     for (PointKind k : in.kinds) ks.push_back(fairspline::io::point_kind_name(k));
     j["kinds"] = ks;
   }
-  if (!in.knots.empty()) j["knots"] = in.knots;
+  if (!in.knots.empty()) {
+    json ks = json::array();
+    for (double t : in.knots) ks.push_back(exact(t));
+    j["knots"] = ks;
+  }
   if (in.start_tangent) j["start_tangent"] = vec(*in.start_tangent);
   if (in.end_tangent) j["end_tangent"] = vec(*in.end_tangent);
-  // NaN/Inf are not JSON: print them as strings so the request stays readable.
-  std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+  const std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
   std::fprintf(stderr, "fuzz_fit request: %s\n", text.c_str());
-  for (const Point& p : in.points) std::fprintf(stderr, "  %.17g, %.17g\n", p.x, p.y);
+}
+
+/// The registered method called `name`, or null.
+const fairspline::MethodInfo* registered(const std::string& name) {
+  for (const fairspline::MethodInfo& m : fairspline::methods()) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+/// An input whose name is not a registered method: fit() must refuse the name with
+/// Error(kUnknownMethod), whose JSON form (the web API's body) can be written even when the name
+/// is not UTF-8. Nothing depends on which or how many methods are registered.
+void check_unknown(const std::string& name) {
+  if (std::getenv("FUZZ_FIT_PRINT")) {
+    const json j = {{"method", name}, {"registered", false}};
+    const std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+    std::fprintf(stderr, "fuzz_fit request: %s\n", text.c_str());
+  }
+  FitInput fi;
+  fi.points = {{0, 0}, {1, 2}, {3, 1}};
+  std::optional<fairspline::Error> error;
+  try {
+    (void)fairspline::fit(name, fi, json::object(), fairspline::ReportLevel::kFull);
+  } catch (const fairspline::Error& e) {
+    error = e;
+  } catch (const std::exception& e) {
+    fairspline::fuzz::fail(std::string("exception other than fairspline::Error for an unknown "
+                                       "method: ") +
+                           e.what());
+  }
+  if (!error) fairspline::fuzz::fail("fit() accepted a method name that is not registered");
+  if (error->code() != fairspline::ErrorCode::kUnknownMethod) {
+    fairspline::fuzz::fail("an unknown method name gave error " +
+                           std::string(fairspline::error_code_name(error->code())) + ": " +
+                           error->what());
+  }
+  try {
+    (void)fairspline::io::error_to_json(*error).dump();
+  } catch (const std::exception& e) {
+    fairspline::fuzz::fail(std::string("the unknown-method error cannot be written as JSON: ") +
+                           e.what());
+  }
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   ByteReader in(data, size);
-  const auto& all = fairspline::methods();
-  const fairspline::MethodInfo& method = all[in.byte() % all.size()];
+  const std::string name = in.name(fairspline::fuzz::kMaxNameLength);
+  const fairspline::MethodInfo* found = registered(name);
+  if (!found) {
+    check_unknown(name);
+    return 0;
+  }
+  const fairspline::MethodInfo& method = *found;
   const bool reuse = (in.byte() & 3) == 0;
   const FitInput fi = make_input(in);
   const json options = make_options(in, method, fi.points.size());
-  if (std::getenv("FUZZ_FIT_PRINT")) print_request(method.name, fi, options);
+  if (std::getenv("FUZZ_FIT_PRINT")) print_request(method.name, reuse, fi, options);
   try {
     const fairspline::FitResult r =
         fairspline::fit(method.name, fi, options, fairspline::ReportLevel::kFull);

@@ -21,6 +21,9 @@
 
 namespace fairspline::fuzz {
 
+/// Longest method name (or name-valued option) that fuzz_fit reads (ByteReader::name).
+inline constexpr std::size_t kMaxNameLength = 64;
+
 /// Reads values from the fuzzer's bytes, front to back. Past the end every read returns zero
 /// (false, the first choice, an empty string), so any input decodes to something.
 class ByteReader {
@@ -98,6 +101,18 @@ class ByteReader {
     const std::size_t n = range(0, max_len);
     std::string s;
     for (std::size_t i = 0; i < n && !empty(); ++i) s += static_cast<char>(byte());
+    return s;
+  }
+
+  /// A name: the bytes up to the first NUL byte (which is skipped), at most `max_len` bytes, or
+  /// up to the end of the input, whichever comes first.
+  std::string name(std::size_t max_len) {
+    std::string s;
+    while (!empty() && s.size() < max_len) {
+      const auto c = static_cast<char>(byte());
+      if (c == '\0') break;
+      s += c;
+    }
     return s;
   }
 
