@@ -331,6 +331,24 @@ int run_bench(const BenchArgs& a) {
   return kExitOk;
 }
 
+// The default --root: the page installed next to this executable (<bindir>/
+// FAIRSPLINE_WEB_ROOT_FROM_BINDIR, i.e. <prefix>/share/fairspline/web), so that an installed
+// fairspline serves the page installed with it even where the source tree still exists; else
+// the source tree's apps/web/static (the build tree's executable); else the configured install
+// location (an executable copied elsewhere). Linux finds this executable via /proc/self/exe.
+std::string default_web_root() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> candidates;
+  if (!ec) candidates.push_back(exe.parent_path() / FAIRSPLINE_WEB_ROOT_FROM_BINDIR);
+  candidates.emplace_back(FAIRSPLINE_WEB_ROOT);
+  candidates.emplace_back(FAIRSPLINE_WEB_INSTALL_ROOT);
+  for (const fs::path& dir : candidates) {
+    if (fs::is_regular_file(dir / "index.html", ec)) return dir.lexically_normal().string();
+  }
+  return FAIRSPLINE_WEB_ROOT;
+}
+
 int run_serve(const fairspline::web::ServerOptions& options) {
   fairspline::web::Server server(options);
   const int port = server.bind();
@@ -436,13 +454,14 @@ int run(int argc, char** argv) {
   bench->add_option("--seed", ba.seed, "Seed of the random walk (default: 1)");
 
   fairspline::web::ServerOptions sa;
-  sa.root = FAIRSPLINE_WEB_ROOT;
+  sa.root = default_web_root();
   CLI::App* serve = app.add_subcommand(
       "serve", "Serve the JSON API (GET /api/methods, POST /api/fit) and the editor page.");
   serve->add_option("--host", sa.host, "Address to bind (default: 127.0.0.1, loopback only)");
   serve->add_option("--port", sa.port, "Port (default: 8080; 0 picks a free one)")
       ->check(CLI::Range(0, 65535));
-  serve->add_option("--root", sa.root, "Directory of the page and its assets");
+  serve->add_option("--root", sa.root,
+                    "Directory of the page and its assets (default: " + sa.root + ")");
   serve->add_option("--max-points", sa.max_points, "Largest fit accepted (default: 200000)")
       ->check(CLI::Range(std::size_t{2}, std::size_t{100'000'000}));
   serve
