@@ -11,10 +11,12 @@ which are written only while their method is registered. For each registered met
   seed-<method>-example-<k>.bin   the k-th example request of the method's schema ("examples")
   seed-<method>-zigzag.bin, -closed-square.bin, -spiral-chordal.bin   hand-made shapes
 Old seed-*.bin files that this run does not write (a method renamed or removed) are deleted;
-regression-* files are never touched.
+regression-* files are never touched. It also writes the libFuzzer dictionary tests/fuzz/fit.dict
+(every registered name with the NUL that ends it), which CTest fuzz.corpus.fuzz_fit compares
+with the registry.
 
   /usr/bin/python3 tests/fuzz/make_fit_seeds.py [--cli build/apps/cli/fairspline]
-      [--out DIR] [--verify build/tests/fuzz/fuzz_fit_replay]
+      [--out DIR] [--dict FILE] [--verify build/tests/fuzz/fuzz_fit_replay]
 
 --verify runs the given fuzz_fit (replay build or libFuzzer build) on every seed written, with
 FUZZ_FIT_PRINT=1, and checks that each decodes to exactly the request it encodes (and that no
@@ -40,7 +42,12 @@ KINDS = {"smooth": 0, "clamped": 200, "corner": 240}
 
 
 class Unencodable(ValueError):
-    """A request that the fuzz format cannot express exactly (e.g. more than 60 points)."""
+    """A request that the fuzz format cannot express exactly (e.g. more than 60 points);
+    `option` names the option at fault, if it is one."""
+
+    def __init__(self, message, option=None):
+        super().__init__(message)
+        self.option = option
 
 
 # ---- values, as ByteReader (fuzz_util.hpp) reads them
@@ -59,6 +66,11 @@ def ordinary_or_none(v):
         if i == int(i) and -32768 <= i <= 32767:
             return struct.pack(">hB", int(i), k)
     return None
+
+
+def ordinary_value(b):
+    """The value ByteReader::ordinary() reads from the bytes b."""
+    return struct.unpack(">h", b[:2])[0] / 2 ** (b[2] % 12)
 
 
 def ordinary(v):
@@ -146,13 +158,19 @@ def number_in(v, spec):
         if 0 <= u <= 65535 and lo + (hi - lo) * (u / 65535.0) == v:
             return struct.pack(">H", u)
         return None
-    base, sign = (lo, 1) if lo is not None else (hi, -1) if hi is not None else (0.0, 0)
-    d = (v - base) * sign if sign else v
-    b = ordinary_or_none(d)
-    if b is None or (sign and (d < 0 or base + sign * abs(struct.unpack(">h", b[:2])[0] /
-                                                       2 ** b[2]) != v)):
-        return None
-    return b
+    if lo is None and hi is None:
+        return ordinary_or_none(v)
+    base, sign = (lo, 1) if lo is not None else (hi, -1)  # min + |o|, or max - |o|
+    d = (v - base) * sign
+    b = ordinary_or_none(d) if d >= 0 else None
+    return b if b is not None and base + sign * ordinary_value(b) == v else None
+
+
+def index(i, n):
+    """ByteReader::range(0, n - 1) giving i (no byte at all when n == 1)."""
+    if n > 256:
+        raise Unencodable(f"a choice out of {n}")
+    return bytes([i]) if n > 1 else b""
 
 
 def option(spec, v, n):
@@ -165,9 +183,9 @@ def option(spec, v, n):
     if t == "boolean" and isinstance(v, bool):
         valid = bytes([0, int(v)])
     elif t == "choice" and v in spec.get("choices", []):
-        valid = bytes([spec["choices"].index(v)])
+        valid = index(spec["choices"].index(v), len(spec["choices"]))
     elif t == "choice_or_number" and v in spec.get("choices", []):
-        valid = bytes([1, spec["choices"].index(v)])
+        valid = bytes([1]) + index(spec["choices"].index(v), len(spec["choices"]))
     elif t == "string" and isinstance(v, str):
         try:
             valid = bytes([0]) + name(v)
@@ -189,7 +207,7 @@ def option(spec, v, n):
     anything = any_value(v)  # mode 5
     if anything is not None:
         return bytes([5]) + anything
-    raise Unencodable(f"option {spec['name']} = {v!r}")
+    raise Unencodable(f"option {spec['name']} = {v!r} has no exact encoding", spec["name"])
 
 
 def options_bytes(schema, given, n, absent_default):
@@ -236,8 +254,8 @@ def knots_bytes(knots, n, closed):
         bytes([200]) + number(knots[0])
     for a, b in zip(knots, knots[1:]):
         step = b - a - 1 / 64
-        o = ordinary_or_none(abs(step)) if step >= 0 else None
-        if o is not None and a + abs(struct.unpack(">h", o[:2])[0] / 2 ** o[2]) + 1 / 64 == b:
+        o = ordinary_or_none(step) if step >= 0 else None
+        if o is not None and a + ordinary_value(o) + 1 / 64 == b:
             out += bytes([0]) + o
         elif b == a:
             out += bytes([200])
@@ -414,10 +432,25 @@ def examples(schemas):
             if isinstance(request, str):
                 request = json.loads(request)
             seed = f"{s['name']}-example-{k}"
-            try:
-                seeds[seed] = (encode_example(s, request), expected_request(s, request, False))
-            except (Unencodable, KeyError, TypeError, ValueError) as e:
-                print(f"make_fit_seeds: seed-{seed}.bin left out: {e}", file=sys.stderr)
+            request = dict(request)
+            while True:
+                try:
+                    seeds[seed] = (encode_example(s, request),
+                                   expected_request(s, request, False))
+                except Unencodable as e:
+                    if e.option is None:
+                        print(f"make_fit_seeds: seed-{seed}.bin left out: {e}", file=sys.stderr)
+                        break
+                    # The rest of the example is still a good seed: the option left out.
+                    print(f"make_fit_seeds: seed-{seed}.bin without it: {e}", file=sys.stderr)
+                    request["options"] = {o: v for o, v in (request.get("options") or {}).items()
+                                          if o != e.option}
+                    if e.option == "lambdas":
+                        request.pop("lambdas", None)
+                    continue
+                except (KeyError, TypeError, ValueError) as e:
+                    print(f"make_fit_seeds: seed-{seed}.bin left out: {e!r}", file=sys.stderr)
+                break
     return seeds
 
 
@@ -460,6 +493,22 @@ def verify(exe, out_dir, files, expected):
     return bad == 0
 
 
+def write_dict(path, schemas):
+    def escaped(b):
+        return "".join(chr(c) if 0x20 <= c < 0x7F and c not in b'"\\' else f"\\x{c:02x}"
+                       for c in b)
+
+    lines = ["# libFuzzer dictionary of fuzz_fit, written by tests/fuzz/make_fit_seeds.py from",
+             "# the registry: every registered method's name with the NUL that ends a name in a",
+             "# fuzz_fit input (docs/fuzzing.md). CTest fuzz.corpus.fuzz_fit checks that it lists",
+             "# exactly the registered methods."]
+    for s in schemas:
+        key = "method_" + "".join(c if c.isalnum() else "_" for c in s["name"])
+        lines.append(f'{key}="{escaped(s["name"].encode() + bytes([0]))}"')
+    with open(path, "w") as out:
+        out.write("\n".join(lines) + "\n")
+
+
 def default_cli():
     if os.environ.get("FAIRSPLINE_CLI"):
         return os.environ["FAIRSPLINE_CLI"]
@@ -473,6 +522,8 @@ def main():
                          "or build/apps/cli/fairspline)")
     ap.add_argument("--out", default=os.path.join(HERE, "corpus", "fuzz_fit"),
                     help="directory of the seeds (default: tests/fuzz/corpus/fuzz_fit)")
+    ap.add_argument("--dict", default=os.path.join(HERE, "fit.dict"),
+                    help="libFuzzer dictionary to write (default: tests/fuzz/fit.dict)")
     ap.add_argument("--verify", metavar="FUZZ_FIT",
                     help="check every seed with this fuzz_fit executable")
     args = ap.parse_args()
@@ -504,6 +555,7 @@ def main():
     print(f"make_fit_seeds: {len(seeds)} seeds ({with_examples} from the registry's examples, "
           f"{len(schemas)} methods) in {args.out}" + (f"; removed {len(stale)} stale" if stale
                                                       else ""))
+    write_dict(args.dict, schemas)
     if args.verify and not verify(args.verify, args.out, sorted(written), expected):
         sys.exit(1)
 
