@@ -30,7 +30,10 @@ configure: $(BUILD_DIR)/CMakeCache.txt
 build: deps configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-run: build
+# Only the command (with the library and web server it links), not the tests, benchmarks or
+# Python module: the first curve comes sooner. `make test` builds the rest in the same tree.
+run: deps configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target fairspline_cli
 	@mkdir -p out
 	$(CLI) fit $(EXAMPLE) -f svg -o out/example.svg --summary
 	@echo "wrote out/example.svg"
