@@ -1,0 +1,86 @@
+// The exact basic curve of elastic splines (Borbély & Johnson, "Elastic Splines I: Existence",
+// Constr. Approx. 40 (2014)): between two points with given end directions, the s-curve (at most
+// one inflection, each turn at most 180°) of least bending energy ∫κ² ds, its length free.
+// Derivation, conventions and verified numbers: docs/methods/elastic.md.
+//
+// Angles follow basic_curve / basic_energy of min_energy.hpp: α is the start direction and β the
+// end direction, both measured counter-clockwise from the chord p1 − p0. E(α, β) = E(β, α) =
+// E(−α, −β). The minimizing curves are pieces of Bernoulli's rectangular elastica, except for
+// large turns where the 180° limit of the first turn is reached ("U-turn" pieces, below).
+#pragma once
+
+#include <vector>
+
+#include "fairspline/cubic_bezier.hpp"
+#include "fairspline/vec2.hpp"
+
+namespace fairspline::detail {
+
+/// True when a minimizing s-curve exists: |α| < π, |β| < π and |α − β| ≤ π (a rounding of
+/// 4 ulp of π above π is accepted and treated as π).
+bool elastica_feasible(double alpha, double beta);
+
+/// E_1(α, β) = min ∫κ² ds over s-curves on the unit chord, with gradient and Hessian.
+struct ElasticaEnergy {
+  double e = 0.0;
+  double ea = 0.0, eb = 0.0;  ///< ∂E/∂α = −2κ_a, ∂E/∂β = 2κ_b (elastica pieces)
+  double eaa = 0.0, eab = 0.0, ebb = 0.0;  ///< Hessian
+};
+
+/// E_1(α, β) with derivatives; a chord of length L has E_L = E_1 / L. Throws
+/// Error(kInfeasible) outside elastica_feasible, Error(kNonFinite) on NaN/Inf. Never returns
+/// NaN or Inf: where the second derivatives do not exist (the corners (±π/2, ∓π/2) of the box
+/// and the edge |α − β| = π) it returns those at distance 1e-16 from the edge (~1.7e8).
+ElasticaEnergy elastica_energy(double alpha, double beta);
+
+/// The exact minimizing piece from p0 to p1. It is described on the canonical elastica
+/// p(u) = (√2 sin u, X(u)), u ∈ [−π, π] (inflection at u = 0, curvature √2 sin u), mapped onto
+/// the chord by a similarity.
+struct ElasticaArc {
+  enum class Kind {
+    kStraight,  ///< α = β = 0: the segment p0 p1
+    kElastica,  ///< one arc [u0, u1] of the rectangular elastica
+    kUTurn,     ///< a full 180° turn [−π, 0], a straight segment, then the arc [0, u1]
+  };
+  Kind kind = Kind::kStraight;
+  Point p0, p1;                    ///< end points (world)
+  double alpha = 0.0, beta = 0.0;  ///< end angles from the chord (as given)
+  /// Canonical description (a reflection and/or reversal of the piece itself, see below).
+  double u0 = 0.0, u1 = 0.0;  ///< canonical parameter range, −π ≤ u0 < u1 ≤ π
+  double segment = 0.0;       ///< kUTurn: length of the straight part at u = 0 (canonical)
+  Vec2 chord{1.0, 0.0};       ///< canonical chord (end − start, including the segment)
+  bool reversed = false;      ///< canonical piece solves (β, α): traverse it backwards
+  bool mirrored = false;      ///< canonical piece solves (−α, −β): reflect it in the chord
+  double unit_energy = 0.0;   ///< E_1(α, β)
+
+  /// Length of the piece (world units).
+  double length() const;
+  /// ∫κ² ds of the piece (world units): E_1 / |p1 − p0|.
+  double energy() const { return unit_energy / distance(p0, p1); }
+  /// Position, unit tangent and signed curvature at the arc-length fraction t ∈ [0, 1].
+  Point point(double t) const;
+  Vec2 tangent(double t) const;
+  double curvature(double t) const;
+};
+
+/// The minimizing piece from p0 to p1 (p0 ≠ p1, finite) with end angles (α, β) as above.
+/// Throws like elastica_energy, and Error(kInvalidArgument) when p0 = p1.
+ElasticaArc elastica_arc(Point p0, Point p1, double alpha, double beta);
+
+/// Diagnostics (tests, docs): every piece satisfying the first-order conditions for (α, β)
+/// that a scan of the canonical path at `samples` points finds (elastica arcs, and the U-turn
+/// piece when it exists), in no particular order; elastica_arc returns the one of least
+/// energy. Empty for α = β = 0.
+std::vector<ElasticaArc> elastica_candidates(Point p0, Point p1, double alpha, double beta,
+                                             int samples);
+
+/// Cubic Béziers approximating the piece: G1 (shared joints and tangent directions), end points
+/// and end tangent directions exact, Hausdorff distance to the exact piece at most
+/// accuracy·|p1 − p0|. Each cubic is the G2 Hermite cubic of its sub-arc (end curvatures
+/// matched; least squares when that has no solution), accepted when the distance measured
+/// both ways at 64 points is at most half the tolerance (a safety factor of 2 for what lies
+/// between the samples), otherwise its sub-arc is halved. accuracy ∈ [1e-13, ∞); below that
+/// Error(kInvalidArgument).
+std::vector<CubicBezier> elastica_to_beziers(const ElasticaArc& arc, double accuracy);
+
+}  // namespace fairspline::detail
