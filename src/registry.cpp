@@ -1,11 +1,13 @@
 #include "fairspline/registry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "detail/finite.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
+#include "fairspline/io/json.hpp"
 #include "methods/builtin.hpp"
 
 namespace fairspline {
@@ -30,9 +32,75 @@ std::string_view option_type_name(OptionType type) {
   return "unknown";
 }
 
+std::string_view continuity_name(Continuity c) {
+  switch (c) {
+    case Continuity::kG1:
+      return "G1";
+    case Continuity::kC1:
+      return "C1";
+    case Continuity::kG2:
+      return "G2";
+  }
+  return "unknown";
+}
+
+std::string_view tangent_use_name(TangentUse t) {
+  return t == TangentUse::kRequired ? "required" : "optional";
+}
+
+bool Capabilities::honours(PointKind kind) const {
+  return kind == PointKind::kSmooth || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+}
+
+namespace {
+
+/// Registry options shared by methods of one capability, appended to their schema.
+void add_registry_options(MethodInfo& m) {
+  if (m.capabilities.tangents != TangentUse::kRequired) return;
+  for (const OptionSpec& s : m.options) {
+    if (s.name == kTangentsFromOption) return;
+  }
+  m.options.push_back({.name = std::string(kTangentsFromOption),
+                       .type = OptionType::kString,
+                       .default_value = "",
+                       .doc = "registered method that supplies the tangent directions missing "
+                              "from the input (e.g. jaklic-zagar); empty: every point needs a "
+                              "tangent"});
+}
+
+std::vector<MethodInfo>& registry() {
+  static std::vector<MethodInfo> all = [] {
+    std::vector<MethodInfo> v = detail::builtin_methods();
+    for (MethodInfo& m : v) add_registry_options(m);
+    return v;
+  }();
+  return all;
+}
+
+}  // namespace
+
 const std::vector<MethodInfo>& methods() {
-  static const std::vector<MethodInfo> registry = detail::builtin_methods();
-  return registry;
+  return registry();
+}
+
+void register_method(MethodInfo method) {
+  if (method.name.empty() || !method.fit) {
+    throw Error(ErrorCode::kInvalidArgument, "a method needs a name and a fit function");
+  }
+  for (const MethodInfo& m : registry()) {
+    if (m.name == method.name) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "a method called '" + method.name + "' is already registered");
+    }
+  }
+  for (const std::string& e : method.capabilities.examples) {
+    if (!nlohmann::json::accept(e)) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "an example request of method " + method.name + " is not valid JSON");
+    }
+  }
+  add_registry_options(method);
+  registry().push_back(std::move(method));
 }
 
 std::string_view default_method_name() {
@@ -45,8 +113,12 @@ const MethodInfo& find_method(std::string_view name) {
   }
   std::string known;
   for (const MethodInfo& m : methods()) known += (known.empty() ? "" : ", ") + m.name;
+  // The name may come from a command line or a file: invalid UTF-8 is replaced so that the
+  // message can always be written as JSON (found by fuzz_fit).
+  const std::string text = nlohmann::json(std::string(name))
+                               .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   throw Error(ErrorCode::kUnknownMethod,
-              "unknown method '" + std::string(name) + "'; available: " + known);
+              "unknown method '" + text.substr(1, text.size() - 2) + "'; available: " + known);
 }
 
 namespace {
@@ -174,31 +246,130 @@ nlohmann::json method_schema(const MethodInfo& method) {
     if (!s.choices.empty()) o["choices"] = s.choices;
     opts.push_back(std::move(o));
   }
+  const Capabilities& c = method.capabilities;
+  nlohmann::json kinds = nlohmann::json::array();
+  for (PointKind k : {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner}) {
+    if (c.honours(k)) kinds.push_back(io::point_kind_name(k));
+  }
+  nlohmann::json points = {{"min_open", c.points.min_open}, {"min_closed", c.points.min_closed}};
+  if (c.points.step != 1) {
+    points["step"] = c.points.step;
+    if (!c.points.relaxed_by.empty()) {
+      points["relaxed_by"] = {{std::string(c.points.relaxed_by), c.points.relaxed_value}};
+    }
+  }
+  nlohmann::json examples = nlohmann::json::array();
+  for (const std::string& e : c.examples) examples.push_back(nlohmann::json::parse(e));
   return {{"name", method.name},
           {"description", method.description},
           {"paper", method.paper},
           {"default", method.name == default_method_name()},
-          {"options", std::move(opts)}};
+          {"options", std::move(opts)},
+          {"capabilities",
+           {{"closed", c.closed},
+            {"kinds", std::move(kinds)},
+            {"tangents", tangent_use_name(c.tangents)},
+            {"points", std::move(points)},
+            {"continuity", continuity_name(c.continuity)},
+            {"regular", c.regular},
+            {"needs_turns", c.needs_turns},
+            {"needs_clamped_tangent", c.needs_clamped_tangent}}},
+          {"examples", std::move(examples)}};
+}
+
+nlohmann::json registry_schema() {
+  nlohmann::json all = nlohmann::json::array();
+  for (const MethodInfo& m : methods()) all.push_back(method_schema(m));
+  return all;
+}
+
+namespace {
+
+/// The registry's pre-step of Hermite methods: the directions missing from the input are taken
+/// from the method named by the option `tangents_from` (the method itself sees a complete
+/// input and never calls back into the registry).
+const FitInput& with_tangents_from(const MethodInfo& method, const FitInput& input,
+                                   const nlohmann::json& options, FitInput& storage) {
+  if (method.capabilities.tangents != TangentUse::kRequired) return input;
+  const auto it = options.find(kTangentsFromOption);
+  if (it == options.end()) return input;
+  const std::string other = it->get<std::string>();
+  if (other.empty()) return input;
+  if (other == method.name) {
+    throw Error(ErrorCode::kBadOption,
+                "tangents_from cannot be " + method.name +
+                    " itself; name a method that chooses directions from points alone (e.g. "
+                    "jaklic-zagar)");
+  }
+  const std::size_t n = input.points.size();
+  bool complete = input.tangents.size() >= n;
+  for (std::size_t i = 0; complete && i < n; ++i) complete = input.tangents[i].has_value();
+  if (complete) return input;
+  FitResult supplier;
+  FitInput plain = input;
+  plain.tangents.clear();
+  plain.kinds.clear();
+  fit_into(other, plain, nlohmann::json::object(), FitOptions{.level = ReportLevel::kNone},
+           supplier);
+  // The supplier may drop the closing duplicate of a closed curve; it may not insert points.
+  const std::size_t m = supplier.tangents.size();
+  if (m != n && !(input.closed && m + 1 == n)) {
+    throw Error(ErrorCode::kBadOption, "tangents_from=" + other + " returned " + std::to_string(m) +
+                                           " tangents for " + std::to_string(n) +
+                                           " points (did it insert points?)");
+  }
+  storage = input;
+  storage.tangents.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool start = i == 0 && input.start_tangent;
+    const bool end = i + 1 == n && !input.closed && input.end_tangent;
+    if (!storage.tangents[i] && !start && !end) storage.tangents[i] = supplier.tangents[i % m];
+  }
+  return storage;
+}
+
+}  // namespace
+
+void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
+              const FitOptions& fit_options, FitResult& out) {
+  const MethodInfo& method = find_method(method_name);
+  if (!(fit_options.accuracy > 0.0 && fit_options.accuracy < 1.0)) {
+    throw Error(ErrorCode::kBadOption, "the accuracy must be a number between 0 and 1, got " +
+                                           nlohmann::json(fit_options.accuracy).dump());
+  }
+  nlohmann::json resolved = resolve_options(method, options);
+  FitInput completed;
+  const FitInput& in = with_tangents_from(method, input, resolved, completed);
+  out.report.reset();
+  out.solver.reset();
+  out.method_report = nlohmann::json::object();
+  method.fit(in, resolved, fit_options, out);
+  out.method = method.name;
+  out.options = std::move(resolved);
+  if (!method.checks_own_output) detail::check_finite_output(out, method.name);
+  if (fit_options.level != ReportLevel::kNone) {
+    DiagnosticsOptions d;
+    d.energy.accuracy = fit_options.accuracy;
+    d.intersection_accuracy = fit_options.accuracy;
+    out.report = make_report(out.spline, out.points, fit_options.level, d);
+  }
 }
 
 void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               ReportLevel level, FitResult& out) {
-  const MethodInfo& method = find_method(method_name);
-  nlohmann::json resolved = resolve_options(method, options);
-  out.report.reset();
-  out.method_report = nlohmann::json::object();
-  method.fit(input, resolved, level, out);
-  out.method = method.name;
-  out.options = std::move(resolved);
-  if (!method.checks_own_output) detail::check_finite_output(out, method.name);
-  if (level != ReportLevel::kNone) out.report = make_report(out.spline, out.points, level);
+  fit_into(method_name, input, options, FitOptions{.level = level}, out);
+}
+
+FitResult fit(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
+              const FitOptions& fit_options) {
+  FitResult result;
+  fit_into(method_name, input, options, fit_options, result);
+  return result;
 }
 
 FitResult fit(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               ReportLevel level) {
-  FitResult result;
-  fit_into(method_name, input, options, level, result);
-  return result;
+  return fit(method_name, input, options, FitOptions{.level = level});
 }
 
 }  // namespace fairspline

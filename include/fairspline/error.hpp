@@ -31,19 +31,34 @@ enum class ErrorCode {
 /// Stable lower-case name of a code, e.g. "repeated_point".
 std::string_view error_code_name(ErrorCode code);
 
+/// A method option that would get past an error (e.g. remainder = "hermite"). The message says
+/// it in words; each front end shows it in its own syntax (the CLI as --set name=value, Python
+/// as a keyword, the editor as the option's control). An empty value: any value the option's
+/// documentation allows (e.g. a method name for tangents_from).
+struct OptionHint {
+  std::string name;
+  std::string value;
+};
+
 /// The exception thrown for every bad input or failed computation.
 /// `index()` is the offending point (or span / line) when there is one.
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCode code, std::string message, std::optional<std::size_t> index = std::nullopt)
-      : std::runtime_error(std::move(message)), code_(code), index_(index) {}
+  Error(ErrorCode code, std::string message, std::optional<std::size_t> index = std::nullopt,
+        std::optional<OptionHint> hint = std::nullopt)
+      : std::runtime_error(std::move(message)),
+        code_(code),
+        index_(index),
+        hint_(std::move(hint)) {}
 
   ErrorCode code() const noexcept { return code_; }
   std::optional<std::size_t> index() const noexcept { return index_; }
+  const std::optional<OptionHint>& hint() const noexcept { return hint_; }
 
  private:
   ErrorCode code_;
   std::optional<std::size_t> index_;
+  std::optional<OptionHint> hint_;
 };
 
 }  // namespace fairspline

@@ -93,6 +93,7 @@ enum class SolverStatus {
   kConditioningLimit,  ///< the tolerance is below what double precision allows at this
                        ///< conditioning; the point is optimal to that limit (not an error)
   kIterationLimit,  ///< stopped at the iteration cap (returned only with FitOptions::best_effort)
+  kStalled,         ///< no admissible step improves the residual (returned only with best_effort)
 };
 
 /// The outcome of a method's iterative step (min-energy's projected Newton, Kozak–Krajnc's G2
@@ -100,9 +101,9 @@ enum class SolverStatus {
 struct SolverReport {
   SolverStatus status = SolverStatus::kConverged;
   int iterations = 0;
-  double residual = 0.0;            ///< final value of the stopping test's quantity
-  double tolerance = 0.0;           ///< what it had to reach
-  std::vector<std::size_t> active;  ///< points whose unknowns sit on a bound (constraint)
+  double residual = 0.0;              ///< final value of the stopping test's quantity
+  double tolerance = 0.0;             ///< what it had to reach
+  std::vector<std::size_t> active{};  ///< points whose unknowns sit on a bound (constraint)
 };
 
 /// What every method returns.
@@ -129,7 +130,8 @@ struct FitOptions {
   double accuracy = kDefaultAccuracy;
   /// Per-node and per-segment entries in method_report (false: only its O(1) summary).
   bool diagnostics = true;
-  /// A solver that stops at its iteration cap returns its curve with status kIterationLimit
+  /// A solver that stops short of its tolerance (iteration cap, no admissible step) returns its
+  /// curve with that status
   /// instead of throwing Error(kNotConverged).
   bool best_effort = false;
 

@@ -110,19 +110,83 @@ bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double a
 
 }  // namespace
 
-std::size_t prepare_input(const FitInput& input, const InputRequirements& req, FitResult& out) {
+namespace {
+
+// The checks of what a method accepts, after the points, knots and tangents are known good.
+void check_capabilities(const FitInput& input, const Capabilities& caps, std::string_view method,
+                        std::size_t n, bool count_rule_relaxed) {
+  const std::string name(method);
+  if (input.closed && !caps.closed) {
+    throw Error(ErrorCode::kInvalidArgument,
+                name +
+                    " interpolates open curves only; give an open curve or use a method that "
+                    "closes curves");
+  }
+  const std::size_t step = caps.points.step;
+  if (!input.closed && step > 1 && !count_rule_relaxed && (n - 1) % step != 0) {
+    const std::size_t rest = (n - 1) % step;
+    std::string s = std::to_string(step);
+    throw Error(
+        ErrorCode::kWrongPointCount,
+        name + " needs " + s + "m+1 points (" + std::to_string(step + 1) + ", " +
+            std::to_string(2 * step + 1) + ", " + std::to_string(3 * step + 1) + ", ...); got " +
+            std::to_string(n) + ". Drop " + std::to_string(rest) + " point(s)" +
+            (caps.points.relaxed_by.empty()
+                 ? std::string()
+                 : " or set the option " + std::string(caps.points.relaxed_by) + " to " +
+                       std::string(caps.points.relaxed_value) +
+                       " to finish the remaining span(s) otherwise"),
+        n - 1,
+        caps.points.relaxed_by.empty()
+            ? std::nullopt
+            : std::optional<OptionHint>(OptionHint{std::string(caps.points.relaxed_by),
+                                                   std::string(caps.points.relaxed_value)}));
+  }
+  for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
+    if (!caps.honours(input.kinds[i])) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "point " + std::to_string(i) + " is " +
+                      (input.kinds[i] == PointKind::kCorner ? "a corner" : "of a kind") + ", but " +
+                      name + " builds one " + std::string(continuity_name(caps.continuity)) +
+                      " curve through every point; split the input there or use a method that "
+                      "honours corners (e.g. min-energy)",
+                  i);
+    }
+  }
+  if (caps.tangents == TangentUse::kRequired) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool given = (i < input.tangents.size() && input.tangents[i]) ||
+                         (i == 0 && input.start_tangent) ||
+                         (i + 1 == n && !input.closed && input.end_tangent);
+      if (!given) {
+        throw Error(ErrorCode::kInvalidArgument,
+                    name + " needs a tangent vector at every point, but point " +
+                        std::to_string(i) +
+                        " has none: give tangents in the input, or set the option "
+                        "tangents_from to a method that chooses directions from points alone "
+                        "(e.g. jaklic-zagar)",
+                    i, OptionHint{std::string(kTangentsFromOption), ""});
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::size_t prepare_input(const FitInput& input, const Capabilities& caps, std::string_view method,
+                          FitResult& out, bool count_rule_relaxed) {
+  const std::string name(method);
   out.closed = input.closed;
   const std::span<const Point> pts = input.points;
   std::size_t n = pts.size();
   // A closed curve given with its first point repeated at the end: drop the duplicate.
   if (input.closed && n >= 2 && coincident(pts[0], pts[n - 1])) --n;
-  const std::size_t need = input.closed ? req.min_points_closed : req.min_points_open;
+  const std::size_t need = input.closed ? caps.points.min_closed : caps.points.min_open;
   if (n < need) {
     check_points_slowly(pts, 0, false);  // a NaN is the clearer message
-    throw Error(ErrorCode::kTooFewPoints, std::string(req.method) + " needs at least " +
-                                              std::to_string(need) + " distinct points for " +
-                                              (input.closed ? "a closed" : "an open") +
-                                              " curve, got " + std::to_string(n));
+    throw Error(ErrorCode::kTooFewPoints,
+                name + " needs at least " + std::to_string(need) + " distinct points for " +
+                    (input.closed ? "a closed" : "an open") + " curve, got " + std::to_string(n));
   }
   const bool with_knots = input.knots.empty();
   const bool clean = with_alpha_kind(input.alpha, [&](auto kind) {
@@ -170,6 +234,7 @@ std::size_t prepare_input(const FitInput& input, const InputRequirements& req, F
     validate_knots(input.knots, n, input.closed);
     out.knots.assign(input.knots.begin(), input.knots.end());
   }
+  check_capabilities(input, caps, method, n, count_rule_relaxed);
   return out.knots.size() - 1;
 }
 

@@ -2,25 +2,25 @@
 #pragma once
 
 #include <cstddef>
+#include <string_view>
 #include <vector>
 
 #include "fairspline/fit.hpp"
+#include "fairspline/registry.hpp"
 
 namespace fairspline::detail {
 
-/// Minimum point counts of a method.
-struct InputRequirements {
-  std::size_t min_points_open = 2;
-  std::size_t min_points_closed = 3;
-  const char* method = "this method";
-};
-
-/// Checks the input and writes the points to interpolate and their knots into `out.points`,
-/// `out.knots` (points.size(), +1 when closed) and sets `out.closed`, reusing capacity.
-/// Throws Error with the offending index for too few points, NaN/Inf, consecutive repeated
-/// points, bad tangents/kinds arrays or bad knots. The closing point of a closed curve equal to
-/// the first one is dropped silently. Returns the number of spans.
-std::size_t prepare_input(const FitInput& input, const InputRequirements& req, FitResult& out);
+/// Checks the input against what the method accepts (`caps`, declared once per method and
+/// shown in its registry entry; `method` names it in messages) and writes the points to
+/// interpolate and their knots into `out.points`, `out.knots` (points.size(), +1 when closed)
+/// and sets `out.closed`, reusing capacity. Throws Error with the offending index for too few
+/// points, NaN/Inf, consecutive repeated points, bad tangents/kinds arrays, bad knots, a closed
+/// curve or a point kind the method does not honour, a point count off the method's rule
+/// (unless `count_rule_relaxed`, the option PointCountRule::relaxed_by being set) and missing
+/// tangents of a Hermite method. The closing point of a closed curve equal to the first one is
+/// dropped silently. Returns the number of spans.
+std::size_t prepare_input(const FitInput& input, const Capabilities& caps, std::string_view method,
+                          FitResult& out, bool count_rule_relaxed = false);
 
 /// True when a and b are equal to within rounding of their coordinates' magnitude.
 bool coincident(Point a, Point b);

@@ -333,6 +333,14 @@ void insert_at_reversals(Problem& pb, const FitInput& input) {
   pb.origin = std::move(origin);
 }
 
+const Capabilities& jaklic_zagar_capabilities() {
+  static const Capabilities caps{
+      .examples = {R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0],[8,1],[9,3]]})",
+                   R"({"points": [[0,0],[4,0],[4,4],[0,4]], "closed": true})",
+                   R"({"points": [[0,0],[2,0],[1,0],[3,0]], "options": {"reversal": "insert"}})"}};
+  return caps;
+}
+
 // Checks the options and the input (into out.points, out.knots), resolves per-point rules.
 Problem prepare(const FitInput& input, const JaklicZagarOptions& options, FitResult& out) {
   auto bad_lambda = [](double v, const std::string& what, std::optional<std::size_t> index) {
@@ -357,7 +365,7 @@ Problem prepare(const FitInput& input, const JaklicZagarOptions& options, FitRes
       global.lambda = options.fixed_lambda;
       break;
   }
-  detail::prepare_input(input, {2, 3, "the Jaklic-Zagar method"}, out);
+  detail::prepare_input(input, jaklic_zagar_capabilities(), "the Jaklic-Zagar method", out);
   Problem pb{out.points, out.knots};
   pb.closed = out.closed;
   pb.global = global;
@@ -389,13 +397,6 @@ Problem prepare(const FitInput& input, const JaklicZagarOptions& options, FitRes
     pb.specs[i].dir = t / length_of(t);
   };
   for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
-    if (input.kinds[i] == PointKind::kCorner) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "point " + std::to_string(i) +
-                      " is a corner, but jaklic-zagar builds one G1 curve; split the input at the "
-                      "corner or use min-energy",
-                  i);
-    }
     if (input.kinds[i] == PointKind::kClamped) clamp(i, *input.tangents[i]);
   }
   if (input.start_tangent) clamp(0, *input.start_tangent);
@@ -868,63 +869,70 @@ FitResult fit_jaklic_zagar(const FitInput& input, const JaklicZagarOptions& opti
 }  // namespace fairspline
 
 // ---- registry entry ----
+#include "detail/choices.hpp"
 #include "methods/builtin.hpp"
 
 namespace fairspline::detail {
 
+namespace {
+constexpr ChoiceTable<JaklicZagarLambda, 2> kLambdaRule{
+    {{"optimal", JaklicZagarLambda::kOptimal}, {"bisector", JaklicZagarLambda::kBisector}}};
+constexpr ChoiceTable<JaklicZagarReversal, 2> kReversal{
+    {{"error", JaklicZagarReversal::kError}, {"insert", JaklicZagarReversal::kInsert}}};
+}  // namespace
+
 std::vector<MethodInfo> jaklic_zagar_methods() {
-  MethodInfo m{
-      "jaklic-zagar",
-      "Local G1 cubic spline: tangent directions from the stationary point of an approximate "
-      "strain energy (or the bisector), magnitudes minimizing it; regular, loop-, cusp- and "
-      "fold-free.",
-      "G. Jaklic, E. Zagar, Planar cubic G1 interpolatory splines with small strain energy, "
-      "J. Comput. Appl. Math. 235 (2011), Theorems 2, 4, 6 and (10), (11)",
-      {OptionSpec{"lambda",
-                  OptionType::kChoiceOrNumber,
-                  "optimal",
-                  0.0,
-                  1.0,
-                  {"optimal", "bisector"},
-                  "shape parameter of (10) at interior points: optimal (Theorem 6, (11): the "
-                  "stationary point of the approximate energy, a maximum for turns above 90 "
-                  "degrees), bisector (Corollary 7's direction), or one number in the open "
-                  "interval (0, 1)"},
-       OptionSpec{"lambdas",
-                  OptionType::kNumberList,
-                  nullptr,
-                  0.0,
-                  1.0,
-                  {},
-                  "per-point lambda (one entry per point, each in (0, 1)); replaces 'lambda'; "
-                  "entries at the ends of an open curve are ignored"},
-       OptionSpec{"reversal",
-                  OptionType::kChoice,
-                  "error",
-                  std::nullopt,
-                  std::nullopt,
-                  {"error", "insert"},
-                  "at a 180 degree reversal: error (default), or insert one point next to it "
-                  "(apex of the equilateral triangle on the shorter chord, inserted into the "
-                  "longer chord, on the side away from where the path continues)"}},
-      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
-        JaklicZagarOptions opt;
-        const nlohmann::json& lam = o.at("lambda");
-        if (lam.is_string()) {
-          opt.lambda = lam.get<std::string>() == "bisector" ? JaklicZagarLambda::kBisector
-                                                            : JaklicZagarLambda::kOptimal;
-        } else {
-          opt.lambda = JaklicZagarLambda::kFixed;
-          opt.fixed_lambda = lam.get<double>();
-        }
-        if (o.contains("lambdas")) opt.lambdas = o.at("lambdas").get<std::vector<double>>();
-        opt.reversal = o.at("reversal").get<std::string>() == "insert"
-                           ? JaklicZagarReversal::kInsert
-                           : JaklicZagarReversal::kError;
-        fit_jaklic_zagar(in, opt, level, out);
-      },
-      /*checks_own_output=*/true};
-  return {m};
+  return {{
+      .name = "jaklic-zagar",
+      .description =
+          "Local G1 cubic spline: tangent directions from the stationary point of an approximate "
+          "strain energy (or the bisector), magnitudes minimizing it; regular, loop-, cusp- and "
+          "fold-free.",
+      .paper =
+          "G. Jaklic, E. Zagar, Planar cubic G1 interpolatory splines with small strain energy, "
+          "J. Comput. Appl. Math. 235 (2011), Theorems 2, 4, 6 and (10), (11)",
+      .options = {{.name = "lambda",
+                   .type = OptionType::kChoiceOrNumber,
+                   .default_value = "optimal",
+                   .min = 0.0,
+                   .max = 1.0,
+                   .choices = kLambdaRule.names(),
+                   .doc = "shape parameter of (10) at interior points: optimal (Theorem 6, (11): "
+                          "the stationary point of the approximate energy, a maximum for turns "
+                          "above 90 degrees), bisector (Corollary 7's direction), or one number "
+                          "in the open interval (0, 1)"},
+                  {.name = "lambdas",
+                   .type = OptionType::kNumberList,
+                   .default_value = nullptr,
+                   .min = 0.0,
+                   .max = 1.0,
+                   .doc = "per-point lambda (one entry per point, each in (0, 1)); replaces "
+                          "'lambda'; entries at the ends of an open curve are ignored"},
+                  {.name = "reversal",
+                   .type = OptionType::kChoice,
+                   .default_value = "error",
+                   .choices = kReversal.names(),
+                   .doc = "at a 180 degree reversal: error (default), or insert one point next "
+                          "to it (apex of the equilateral triangle on the shorter chord, "
+                          "inserted into the longer chord, on the side away from where the path "
+                          "continues)"}},
+      .fit =
+          [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
+            JaklicZagarOptions opt;
+            const nlohmann::json& lam = o.at("lambda");
+            if (lam.is_string()) {
+              opt.lambda = kLambdaRule.parse(lam.get<std::string>());
+            } else {
+              opt.lambda = JaklicZagarLambda::kFixed;
+              opt.fixed_lambda = lam.get<double>();
+            }
+            if (o.contains("lambdas")) opt.lambdas = o.at("lambdas").get<std::vector<double>>();
+            opt.reversal = kReversal.parse(o.at("reversal").get<std::string>());
+            fit_jaklic_zagar(in, opt, f.level, out);
+          },
+      .capabilities = jaklic_zagar_capabilities(),
+      .checks_own_output = true,
+  }};
 }
 
 }  // namespace fairspline::detail

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "detail/choices.hpp"
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
 #include "detail/input.hpp"
@@ -514,9 +515,15 @@ bool admissible(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3) {
   return kozak_krajnc_theorem_2_4(c) || kozak_krajnc_theorem_2_5(c);
 }
 
+/// The G2 Newton stops when every scaled curvature jump (1.4) is below this.
+constexpr double kG2Tolerance = 1e-10;
+/// Step of the finite-difference Jacobian of (1.4) in ξ.
+constexpr double kG2JacobianStep = 1e-7;
+
 /// Result of the optional G2 Newton iteration on (1.4).
 struct G2Report {
   bool converged = false;
+  bool at_cap = false;  ///< stopped by the iteration limit (else: by `reason`)
   int iterations = 0;
   double residual = 0.0;
   std::string reason;
@@ -563,10 +570,10 @@ G2Report solve_g2(const Geometry& g, std::vector<double>& xi, std::span<const ch
     rep.reason = "the G1 solution could not be re-evaluated";
     return rep;
   }
-  const double h = 1e-7;
+  const double h = kG2JacobianStep;
   for (rep.iterations = 0; rep.iterations < max_iterations; ++rep.iterations) {
     rep.residual = max_abs(r);
-    if (rep.residual <= 1e-10) {
+    if (rep.residual <= kG2Tolerance) {
       rep.converged = true;
       return rep;
     }
@@ -620,8 +627,8 @@ G2Report solve_g2(const Geometry& g, std::vector<double>& xi, std::span<const ch
     }
   }
   rep.residual = max_abs(r);
-  rep.converged = rep.residual <= 1e-10;
-  if (!rep.converged) rep.reason = "iteration limit reached";
+  rep.converged = rep.residual <= kG2Tolerance;
+  if (!rep.converged) rep.reason = "iteration limit reached", rep.at_cap = true;
   return rep;
 }
 
@@ -649,51 +656,42 @@ nlohmann::json solution_json(const KozakKrajncSolution& s, double unscale) {
                          : nlohmann::json(nullptr)}};
 }
 
-const char* tangents_name(KozakKrajncTangents t) {
-  switch (t) {
-    case KozakKrajncTangents::kSweep:
-      return "sweep";
-    case KozakKrajncTangents::kLocalQuadraticUniform:
-      return "local-quadratic-uniform";
-    case KozakKrajncTangents::kLocalQuadraticChordal:
-      return "local-quadratic-chordal";
-  }
-  return "sweep";
+constexpr detail::ChoiceTable<KozakKrajncTangents, 3> kTangentRule{
+    {{"sweep", KozakKrajncTangents::kSweep},
+     {"local-quadratic-uniform", KozakKrajncTangents::kLocalQuadraticUniform},
+     {"local-quadratic-chordal", KozakKrajncTangents::kLocalQuadraticChordal}}};
+
+// The sweeps of Section 4 run from T0 to T3m with free end directions: open curves only.
+const Capabilities& kozak_krajnc_capabilities() {
+  static const Capabilities caps{
+      .closed = false,
+      .points = {.min_open = 4,
+                 .min_closed = 4,
+                 .step = 3,
+                 .relaxed_by = "remainder",
+                 .relaxed_value = "hermite"},
+      .needs_turns = true,
+      .examples = {
+          R"({"points": [[0,0],[1,0.875],[2.25,1.5],[3.5,1.375],[4.625,0.75],[5.5,0],[6.625,-0.5]]})",
+          R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0]], "options": {"remainder": "hermite"}})",
+          R"({"points": [[0,0],[1,0.875],[2.25,1.5],[3.5,1.375],[4.625,0.75],[5.5,0],[6.625,-0.5]],
+              "options": {"g2": true}})"}};
+  return caps;
 }
 
 }  // namespace
 
 void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, ReportLevel level,
                       FitResult& out) {
-  detail::prepare_input(input, {4, 4, "kozak-krajnc"}, out);
-  if (out.closed) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "kozak-krajnc interpolates open curves only: the sweeps of Section 4 run from "
-                "T0 to T3m with free end directions");
-  }
+  // Each cubic passes through four consecutive points: 3m+1 points unless remainder=hermite.
+  detail::prepare_input(input, kozak_krajnc_capabilities(), "kozak-krajnc", out,
+                        options.remainder_hermite);
   if (!std::isnan(options.gamma) && !(options.gamma >= 0.0 && options.gamma <= 1.0)) {
     throw Error(ErrorCode::kBadOption, "kozak-krajnc: gamma must lie in [0, 1]");
   }
   const std::size_t n = out.points.size();
   const std::size_t rest = (n - 1) % 3;
-  if (rest != 0 && !options.remainder_hermite) {
-    throw Error(ErrorCode::kWrongPointCount,
-                "kozak-krajnc needs 3m+1 points (4, 7, 10, ...) because each cubic passes "
-                "through four consecutive points; got " +
-                    std::to_string(n) + ". Drop " + std::to_string(rest) +
-                    " point(s) or set remainder=hermite to finish the last span(s) with G1 "
-                    "Hermite curves",
-                n - 1);
-  }
   const std::size_t nk = n - rest;  // points covered by Kozak–Krajnc pieces
-  for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
-    if (input.kinds[i] == PointKind::kCorner) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "point " + std::to_string(i) +
-                      " is a corner, but kozak-krajnc builds one G1 curve; split the input there",
-                  i);
-    }
-  }
   // Work on the points scaled by a power of two (exact) that brings the chords to size ~1: the
   // constants (2.6) are products of chord coordinates and would overflow or underflow for data
   // near the ends of the double range. The curve is scaled back at the end.
@@ -777,7 +775,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
       const auto x = xi_of(g, l, local_quadratic_direction(g.all, i, chordal));
       if (!x) {
         throw Error(ErrorCode::kInfeasible,
-                    std::string("kozak-krajnc: the ") + tangents_name(options.tangents) +
+                    "kozak-krajnc: the " + std::string(kTangentRule.name(options.tangents)) +
                         " direction at " + pt(i) +
                         " lies outside the cone of directions (4.1) admitted there; use "
                         "tangents=sweep",
@@ -817,7 +815,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." +
                       pt(3 * l) + ") has no admissible solution for the " +
-                      tangents_name(options.tangents) + " directions" +
+                      std::string(kTangentRule.name(options.tangents)) + " directions" +
                       (outside ? std::string(" (they lie outside the swept sets Ξ: ") +
                                      pt(3 * l - 3) + " " + describe(sw.xi[l - 1]) + ", " +
                                      pt(3 * l) + " " + describe(sw.xi[l]) + "); use tangents=sweep"
@@ -868,6 +866,15 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
         break;
       }
     }
+  }
+
+  if (options.g2 && !g2.converged && !options.best_effort) {
+    throw Error(ErrorCode::kNotConverged,
+                "kozak-krajnc: the G2 Newton iteration on (1.4) stopped after " +
+                    std::to_string(g2.iterations) + " iterations with scaled curvature jump " +
+                    detail::format_number(g2.residual) + " (tolerance " +
+                    detail::format_number(kG2Tolerance) + "): " + g2.reason +
+                    "; ask for a best effort to get the G1 spline instead");
   }
 
   // Output: each piece split at t1, t2 into one Bézier per span.
@@ -954,7 +961,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   }
   out.method_report["breakpoints"] = bps;
   out.method_report["sweeps"] = !all_given;
-  out.method_report["tangents"] = tangents_name(options.tangents);
+  out.method_report["tangents"] = std::string(kTangentRule.name(options.tangents));
   out.method_report["gamma"] =
       std::isnan(options.gamma) ? nlohmann::json("auto") : nlohmann::json(options.gamma);
   if (rest != 0) {
@@ -964,6 +971,12 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                                       {"pieces", remainder_pieces}};
   }
   if (options.g2) {
+    out.solver = SolverReport{.status = g2.converged ? SolverStatus::kConverged
+                                        : g2.at_cap  ? SolverStatus::kIterationLimit
+                                                     : SolverStatus::kStalled,
+                              .iterations = g2.iterations,
+                              .residual = g2.residual,
+                              .tolerance = kG2Tolerance};
     out.method_report["g2"] = {{"converged", g2.converged},
                                {"iterations", g2.iterations},
                                {"max_scaled_curvature_jump", g2.residual},
@@ -1008,74 +1021,68 @@ FitResult fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& opti
 namespace fairspline::detail {
 
 std::vector<MethodInfo> kozak_krajnc_methods() {
-  MethodInfo m{
-      "kozak-krajnc",
-      "G1 cubic spline through 3m+1 points, each cubic through four consecutive points at "
-      "unknown parameters; tangent directions from the admissible sets of the forward/backward "
-      "sweeps, so that every piece provably exists.",
-      "J. Kozak, M. Krajnc, Geometric interpolation by planar cubic G1 splines, BIT 47 (2007), "
-      "Sections 2-4",
-      {OptionSpec{"gamma",
-                  OptionType::kChoiceOrNumber,
-                  0.5,
-                  0.0,
-                  1.0,
-                  {"auto"},
-                  "place each free ξ at γ·inf Ξ + (1−γ)·sup Ξ of its admissible interval (the "
-                  "paper's rule); auto: at the direction of the chord-length parabola through "
-                  "the breakpoint and its neighbours, kept inside Ξ (fairer curves when Ξ is "
-                  "wide)"},
-       OptionSpec{"tangents",
-                  OptionType::kChoice,
-                  "sweep",
-                  std::nullopt,
-                  std::nullopt,
-                  {"sweep", "local-quadratic-uniform", "local-quadratic-chordal"},
-                  "sweep: ξ placed by gamma; local-quadratic-*: directions of the parabola "
-                  "through each breakpoint and its neighbours (uniform or chord-length "
-                  "parameters), checked against the admissible sets (error if outside)"},
-       OptionSpec{"remainder",
-                  OptionType::kChoice,
-                  "error",
-                  std::nullopt,
-                  std::nullopt,
-                  {"error", "hermite"},
-                  "point counts other than 3m+1: error, or finish the last one or two spans "
-                  "with G1 Hermite curves (Yong–Cheng composite OGH cubics; directions of the "
-                  "chord-length parabola, the given end tangent if any)"},
-       OptionSpec{"g2",
-                  OptionType::kBoolean,
-                  false,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "solve (1.4) for G2 continuity at the interior breakpoints by Newton's method "
-                  "from the G1 solution, inside the admissible sets; the report says whether it "
-                  "converged (if not, the G1 spline is returned)"},
-       OptionSpec{"g2_max_iterations",
-                  OptionType::kInteger,
-                  30,
-                  1.0,
-                  1000.0,
-                  {},
-                  "Newton iteration limit for g2"}},
-      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
-        KozakKrajncOptions opt;
-        const nlohmann::json& gamma = o.at("gamma");
-        opt.gamma =
-            gamma.is_string() ? std::numeric_limits<double>::quiet_NaN() : gamma.get<double>();
-        const std::string t = o.at("tangents").get<std::string>();
-        opt.tangents = t == "local-quadratic-uniform" ? KozakKrajncTangents::kLocalQuadraticUniform
-                       : t == "local-quadratic-chordal"
-                           ? KozakKrajncTangents::kLocalQuadraticChordal
-                           : KozakKrajncTangents::kSweep;
-        opt.remainder_hermite = o.at("remainder").get<std::string>() == "hermite";
-        opt.g2 = o.at("g2").get<bool>();
-        opt.g2_max_iterations = o.at("g2_max_iterations").get<int>();
-        fit_kozak_krajnc(in, opt, level, out);
-      },
-      /*checks_own_output=*/false};
-  return {m};
+  return {{
+      .name = "kozak-krajnc",
+      .description =
+          "G1 cubic spline through 3m+1 points, each cubic through four consecutive points at "
+          "unknown parameters; tangent directions from the admissible sets of the "
+          "forward/backward sweeps, so that every piece provably exists.",
+      .paper = "J. Kozak, M. Krajnc, Geometric interpolation by planar cubic G1 splines, BIT 47 "
+               "(2007), Sections 2-4",
+      .options = {{.name = "gamma",
+                   .type = OptionType::kChoiceOrNumber,
+                   .default_value = 0.5,
+                   .min = 0.0,
+                   .max = 1.0,
+                   .choices = {"auto"},
+                   .doc = "place each free ξ at γ·inf Ξ + (1−γ)·sup Ξ of its admissible interval "
+                          "(the paper's rule); auto: at the direction of the chord-length "
+                          "parabola through the breakpoint and its neighbours, kept inside Ξ "
+                          "(fairer curves when Ξ is wide)"},
+                  {.name = "tangents",
+                   .type = OptionType::kChoice,
+                   .default_value = "sweep",
+                   .choices = kTangentRule.names(),
+                   .doc = "sweep: ξ placed by gamma; local-quadratic-*: directions of the "
+                          "parabola through each breakpoint and its neighbours (uniform or "
+                          "chord-length parameters), checked against the admissible sets (error "
+                          "if outside)"},
+                  {.name = "remainder",
+                   .type = OptionType::kChoice,
+                   .default_value = "error",
+                   .choices = {"error", "hermite"},
+                   .doc = "point counts other than 3m+1: error, or finish the last one or two "
+                          "spans with G1 Hermite curves (Yong–Cheng composite OGH cubics; "
+                          "directions of the chord-length parabola, the given end tangent if "
+                          "any)"},
+                  {.name = "g2",
+                   .type = OptionType::kBoolean,
+                   .default_value = false,
+                   .doc = "solve (1.4) for G2 continuity at the interior breakpoints by Newton's "
+                          "method from the G1 solution, inside the admissible sets; an error "
+                          "(not_converged) if it does not converge, unless a best effort is asked "
+                          "for: then the G1 spline is returned with the solver's status"},
+                  {.name = "g2_max_iterations",
+                   .type = OptionType::kInteger,
+                   .default_value = 30,
+                   .min = 1.0,
+                   .max = 1000.0,
+                   .doc = "Newton iteration limit for g2"}},
+      .fit =
+          [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
+            KozakKrajncOptions opt;
+            const nlohmann::json& gamma = o.at("gamma");
+            opt.gamma =
+                gamma.is_string() ? std::numeric_limits<double>::quiet_NaN() : gamma.get<double>();
+            opt.tangents = kTangentRule.parse(o.at("tangents").get<std::string>());
+            opt.remainder_hermite = o.at("remainder").get<std::string>() == "hermite";
+            opt.g2 = o.at("g2").get<bool>();
+            opt.g2_max_iterations = o.at("g2_max_iterations").get<int>();
+            opt.best_effort = f.best_effort;
+            fit_kozak_krajnc(in, opt, f.level, out);
+          },
+      .capabilities = kozak_krajnc_capabilities(),
+  }};
 }
 
 }  // namespace fairspline::detail

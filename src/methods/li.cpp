@@ -207,6 +207,20 @@ inline Vec2 unit(Vec2 v) {
 
 }  // namespace
 
+namespace {
+
+const Capabilities& li_capabilities() {
+  static const Capabilities caps{
+      .continuity = Continuity::kC1,
+      .regular = false,
+      .examples = {R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0],[8,1],[9,3]]})",
+                   R"({"points": [[0,0],[4,0],[4,4],[0,4]], "closed": true})",
+                   R"({"points": [[0,0],[1,1],[2,0],[3,1]], "start_tangent": [1,0]})"}};
+  return caps;
+}
+
+}  // namespace
+
 void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, FitResult& out) {
   const double w1 = options.strain_weight, w2 = options.curvature_variation_weight;
   if (!(w1 >= 0.0 && w2 >= 0.0 && std::isfinite(w1) && std::isfinite(w2) && w1 + w2 > 0.0)) {
@@ -214,7 +228,7 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
                 "Li weights must be finite and non-negative with a positive sum, got (" +
                     detail::format_number(w1) + ", " + detail::format_number(w2) + ")");
   }
-  const std::size_t spans = detail::prepare_input(input, {2, 3, "the Li method"}, out);
+  const std::size_t spans = detail::prepare_input(input, li_capabilities(), "the Li method", out);
   Problem pb;
   pb.points = out.points;
   pb.knots = out.knots;
@@ -232,13 +246,6 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
     pb.fixed[i] = v;
   };
   for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
-    if (input.kinds[i] == PointKind::kCorner) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "point " + std::to_string(i) +
-                      " is a corner, but the Li methods build one C1 "
-                      "curve; split the input at the corner or use min-energy",
-                  i);
-    }
     if (input.kinds[i] == PointKind::kClamped) fix(i, *input.tangents[i]);
   }
   if (input.start_tangent) fix(0, *input.start_tangent);
@@ -338,48 +345,58 @@ std::vector<MethodInfo> li_methods() {
       "J. Li, Constructing planar C1 cubic Hermite interpolation curves via approximate energy "
       "minimization, Section 2";
   MethodInfo strain{
-      "li-strain",
-      "C1 cubic minimizing the linearized strain energy ∫|s''|² dt: the natural (closed: "
-      "periodic) C2 cubic spline on the knots (Li 2.13, 2.20).",
-      paper + ", system (2.13)/(2.20)",
-      {},
-      [](const FitInput& in, const nlohmann::json&, ReportLevel level, FitResult& out) {
-        fit_li(in, {1.0, 0.0}, level, out);
-      },
-      /*checks_own_output=*/true};
+      .name = "li-strain",
+      .description =
+          "C1 cubic minimizing the linearized strain energy ∫|s''|² dt: the natural (closed: "
+          "periodic) C2 cubic spline on the knots (Li 2.13, 2.20).",
+      .paper = paper + ", system (2.13)/(2.20)",
+      .fit =
+          [](const FitInput& in, const nlohmann::json&, const FitOptions& f, FitResult& out) {
+            fit_li(in, {1.0, 0.0}, f.level, out);
+          },
+      .capabilities = li_capabilities(),
+      .checks_own_output = true};
   MethodInfo combined{
-      "li-combined",
-      "C1 cubic minimizing w1·∫|s''|² dt + w2·H²·∫|s'''|² dt (Li's combined energy 2.17, 2.21 for "
-      "weights 1,1 and uniform knots).",
-      paper + ", system (2.17)/(2.21)",
-      {OptionSpec{"weights",
-                  OptionType::kNumberList,
-                  nlohmann::json::array({1.0, 1.0}),
-                  0.0,
-                  std::nullopt,
-                  {},
-                  "[w1, w2]: weights of the strain and curvature-variation terms (non-negative, "
-                  "w1 > 0 or a clamped tangent)"}},
-      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
-        const auto& w = o.at("weights");
-        if (w.size() != 2) {
-          throw Error(
-              ErrorCode::kBadOption,
-              "option 'weights' of li-combined must have two entries [w1, w2], got " + w.dump());
-        }
-        fit_li(in, {w[0].get<double>(), w[1].get<double>()}, level, out);
-      },
-      /*checks_own_output=*/true};
+      .name = "li-combined",
+      .description =
+          "C1 cubic minimizing w1·∫|s''|² dt + w2·H²·∫|s'''|² dt (Li's combined energy 2.17, "
+          "2.21 for weights 1,1 and uniform knots).",
+      .paper = paper + ", system (2.17)/(2.21)",
+      .options = {{.name = "weights",
+                   .type = OptionType::kNumberList,
+                   .default_value = nlohmann::json::array({1.0, 1.0}),
+                   .min = 0.0,
+                   .doc = "[w1, w2]: weights of the strain and curvature-variation terms "
+                          "(non-negative, w1 > 0 or a clamped tangent)"}},
+      .fit =
+          [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
+            const auto& w = o.at("weights");
+            if (w.size() != 2) {
+              throw Error(ErrorCode::kBadOption,
+                          "option 'weights' of li-combined must have two entries [w1, w2], got " +
+                              w.dump());
+            }
+            fit_li(in, {w[0].get<double>(), w[1].get<double>()}, f.level, out);
+          },
+      .capabilities = li_capabilities(),
+      .checks_own_output = true};
   MethodInfo curvature{
-      "li-curvature-variation",
-      "C1 cubic minimizing ∫|s'''|² dt alone (Li 2.16): a C1 piecewise-quadratic curve, unique "
-      "only with a clamped start tangent (or a closed curve with an odd number of points).",
-      paper + ", system (2.16)",
-      {},
-      [](const FitInput& in, const nlohmann::json&, ReportLevel level, FitResult& out) {
-        fit_li(in, {0.0, 1.0}, level, out);
-      },
-      /*checks_own_output=*/true};
+      .name = "li-curvature-variation",
+      .description =
+          "C1 cubic minimizing ∫|s'''|² dt alone (Li 2.16): a C1 piecewise-quadratic curve, "
+          "unique only with a clamped start tangent (or a closed curve with an odd number of "
+          "points).",
+      .paper = paper + ", system (2.16)",
+      .fit =
+          [](const FitInput& in, const nlohmann::json&, const FitOptions& f, FitResult& out) {
+            fit_li(in, {0.0, 1.0}, f.level, out);
+          },
+      .capabilities = li_capabilities(),
+      .checks_own_output = true};
+  curvature.capabilities.needs_clamped_tangent = true;
+  curvature.capabilities.examples = {
+      R"({"points": [[0,0],[1,1],[2,0],[3,1]], "start_tangent": [1,0]})",
+      R"({"points": [[0,0],[4,0],[4,4],[0,4],[-2,2]], "closed": true})"};
   return {strain, combined, curvature};
 }
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "detail/choices.hpp"
 #include "detail/input.hpp"
 #include "fairspline/error.hpp"
 
@@ -636,6 +637,25 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   return chains;
 }
 
+constexpr detail::ChoiceTable<MinEnergyBasis, 4> kBasis{
+    {{"quasi-elastic", MinEnergyBasis::kCondG2},
+     {"cond-g2", MinEnergyBasis::kCondG2},
+     {"jaklic-zagar", MinEnergyBasis::kJaklicZagar},
+     {"yong-cheng", MinEnergyBasis::kYongCheng}}};
+
+// Corners split the curve into independent chains (Remark 2.4).
+const Capabilities& min_energy_capabilities() {
+  static const Capabilities caps{
+      .kinds = {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner},
+      .continuity = Continuity::kG2,
+      .examples = {R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0],[8,1],[9,3]]})",
+                   R"({"points": [[0,0],[4,0],[4,4],[0,4]], "closed": true})",
+                   R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0]],
+              "kinds": ["smooth","clamped","corner","smooth","smooth"],
+              "tangents": [null,[1,0.5],null,null,null], "end_tangent": [1,-1]})"}};
+  return caps;
+}
+
 }  // namespace
 
 void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
@@ -657,11 +677,12 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
                 "min-energy: basis=jaklic-zagar needs omega_deg < 90 (s0 = cos α must stay "
                 "positive, Example 4.2)");
   }
-  detail::prepare_input(input, {2, 3, "min-energy"}, out);
+  detail::prepare_input(input, min_energy_capabilities(), "min-energy", out);
   const std::size_t n = out.points.size();
   std::vector<Chain> chains = build_chains(out, input, m.omega);
 
   MinEnergyReport rep;
+  bool converged = true;
   rep.pieces = static_cast<int>(chains.size());
   const std::size_t segs = out.closed ? n : n - 1;
   out.spline.closed = out.closed;
@@ -683,7 +704,8 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     for (double& w : ch.w) w = std::scalbn(w, wexp);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
-    if (!r.converged) {
+    converged = converged && r.converged;
+    if (!r.converged && !options.best_effort) {
       throw Error(ErrorCode::kNotConverged,
                   "min-energy: the projected Newton method stopped after " +
                       std::to_string(r.iterations) + " iterations with projected gradient " +
@@ -724,10 +746,16 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   }
   std::sort(rep.active.begin(), rep.active.end());
 
+  out.solver =
+      SolverReport{.status = converged ? SolverStatus::kConverged : SolverStatus::kIterationLimit,
+                   .iterations = rep.iterations,
+                   .residual = rep.projected_gradient,
+                   .tolerance = options.tolerance,
+                   .active = rep.active};
   out.method_report = {{"iterations", rep.iterations},
                        {"energy", rep.energy},
                        {"projected_gradient", rep.projected_gradient},
-                       {"status", "converged"},
+                       {"status", converged ? "converged" : "iteration_limit"},
                        {"pieces", rep.pieces}};
   if (level != ReportLevel::kNone) {
     out.method_report["active"] = rep.active;
@@ -764,7 +792,7 @@ double local_energy(const Chain& ch, const BasicCurveMethod& m, std::size_t t, d
 
 MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOptions& options) {
   FitResult out;
-  detail::prepare_input(input, {2, 3, "min-energy"}, out);
+  detail::prepare_input(input, min_energy_capabilities(), "min-energy", out);
   std::vector<Chain> chains = build_chains(out, input, options.method.omega);
   const BasicCurveMethod& m = options.method;
   MinEnergyReference ref;
@@ -825,62 +853,60 @@ namespace fairspline::detail {
 
 std::vector<MethodInfo> min_energy_methods() {
   auto make = [](std::string name, std::string description, std::string basis) {
-    MethodInfo m{
-        std::move(name),
-        std::move(description),
-        "M. J. Johnson, H. S. Johnson, A constructive framework for minimal energy planar curves, "
-        "Sections 2-6, Examples 1.1, 4.1, 4.2, Theorem 4.4",
-        {OptionSpec{"basis",
-                    OptionType::kChoice,
-                    basis,
-                    std::nullopt,
-                    std::nullopt,
-                    {"quasi-elastic", "cond-g2", "jaklic-zagar", "yong-cheng"},
-                    "basic curve method: quasi-elastic (conditionally G2 cubic, lambda = 1), "
-                    "cond-g2 (shape parameter lambda), jaklic-zagar (Example 4.2), yong-cheng "
-                    "(OGH cubic, Example 4.1)"},
-         OptionSpec{"lambda",
-                    OptionType::kNumber,
-                    1.0,
-                    0.0,
-                    3.0,
-                    {},
-                    "shape parameter of cond-g2, in the open interval (0, 3) (Theorem 4.4)"},
-         OptionSpec{"omega_deg",
-                    OptionType::kNumber,
-                    nullptr,
-                    0.0,
-                    90.0,
-                    {},
-                    "feasibility bound Ω in degrees: |α|, |β| <= Ω at every chord; default 90 "
-                    "(quasi-elastic, cond-g2), 80 (jaklic-zagar), 60 (yong-cheng)"},
-         OptionSpec{"max_iterations",
-                    OptionType::kInteger,
-                    200,
-                    1.0,
-                    100000.0,
-                    {},
-                    "projected Newton iteration limit (an error if reached)"}},
-        [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
-          MinEnergyOptions opt;
-          const std::string b = o.at("basis").get<std::string>();
-          opt.method.basis = b == "jaklic-zagar" ? MinEnergyBasis::kJaklicZagar
-                             : b == "yong-cheng" ? MinEnergyBasis::kYongCheng
-                                                 : MinEnergyBasis::kCondG2;
-          opt.method.lambda = o.at("lambda").get<double>();
-          if (b == "quasi-elastic" && opt.method.lambda != 1.0) {
-            throw Error(ErrorCode::kBadOption,
-                        "option lambda applies to basis=cond-g2; the quasi-elastic cubic is "
-                        "lambda = 1 (use -m cond-g2 --set lambda=...)");
-          }
-          opt.method.omega = o.contains("omega_deg") && !o.at("omega_deg").is_null()
-                                 ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
-                                 : BasicCurveMethod::default_omega(opt.method.basis);
-          opt.max_iterations = o.at("max_iterations").get<int>();
-          fit_min_energy(in, opt, level, out);
-        },
-        /*checks_own_output=*/false};
-    return m;
+    return MethodInfo{
+        .name = std::move(name),
+        .description = std::move(description),
+        .paper =
+            "M. J. Johnson, H. S. Johnson, A constructive framework for minimal energy "
+            "planar curves, Sections 2-6, Examples 1.1, 4.1, 4.2, Theorem 4.4",
+        .options = {{.name = "basis",
+                     .type = OptionType::kChoice,
+                     .default_value = basis,
+                     .choices = kBasis.names(),
+                     .doc = "basic curve method: quasi-elastic (conditionally G2 cubic, lambda = "
+                            "1), cond-g2 (shape parameter lambda), jaklic-zagar (Example 4.2), "
+                            "yong-cheng (OGH cubic, Example 4.1)"},
+                    {.name = "lambda",
+                     .type = OptionType::kNumber,
+                     .default_value = 1.0,
+                     .min = 0.0,
+                     .max = 3.0,
+                     .doc = "shape parameter of cond-g2, in the open interval (0, 3) (Theorem "
+                            "4.4)"},
+                    {.name = "omega_deg",
+                     .type = OptionType::kNumber,
+                     .default_value = nullptr,
+                     .min = 0.0,
+                     .max = 90.0,
+                     .doc = "feasibility bound Ω in degrees: |α|, |β| <= Ω at every chord; "
+                            "default 90 (quasi-elastic, cond-g2), 80 (jaklic-zagar), 60 "
+                            "(yong-cheng)"},
+                    {.name = "max_iterations",
+                     .type = OptionType::kInteger,
+                     .default_value = 200,
+                     .min = 1.0,
+                     .max = 100000.0,
+                     .doc = "projected Newton iteration limit (an error if reached)"}},
+        .fit =
+            [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
+              MinEnergyOptions opt;
+              const std::string b = o.at("basis").get<std::string>();
+              opt.method.basis = kBasis.parse(b);
+              opt.method.lambda = o.at("lambda").get<double>();
+              if (b == "quasi-elastic" && opt.method.lambda != 1.0) {
+                throw Error(ErrorCode::kBadOption,
+                            "option lambda applies to basis cond-g2; the quasi-elastic cubic is "
+                            "lambda = 1 (choose the method cond-g2 to set lambda)");
+              }
+              opt.method.omega = o.contains("omega_deg") && !o.at("omega_deg").is_null()
+                                     ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
+                                     : BasicCurveMethod::default_omega(opt.method.basis);
+              opt.max_iterations = o.at("max_iterations").get<int>();
+              opt.best_effort = f.best_effort;
+              fit_min_energy(in, opt, f.level, out);
+            },
+        .capabilities = min_energy_capabilities(),
+    };
   };
   return {make("quasi-elastic",
                "Minimal-energy G1 cubic spline (Johnson-Johnson) with the quasi-elastic basic "

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "detail/choices.hpp"
 #include "detail/finite.hpp"
 #include "detail/input.hpp"
 #include "detail/knots.hpp"
@@ -722,76 +723,40 @@ namespace fairspline {
 
 namespace {
 
-std::string_view ratio_name(YongChengRatio r) {
-  return r == YongChengRatio::kEqual ? "equal" : "free";
+constexpr detail::ChoiceTable<YongChengRatio, 2> kRatio{
+    {{"free", YongChengRatio::kFree}, {"equal", YongChengRatio::kEqual}}};
+
+const Capabilities& yong_cheng_capabilities() {
+  static const Capabilities caps{
+      .tangents = TangentUse::kRequired,
+      .examples = {R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0],[8,1],[9,3]],
+                            "options": {"tangents_from": "jaklic-zagar"}})",
+                   R"({"points": [[0,0],[1,0],[2,0]],
+                            "tangents": [[0,1],[1,-1],[0,1]]})",
+                   R"({"points": [[0,0],[4,0],[4,4],[0,4]], "closed": true,
+                            "tangents": [[1,-1],[1,1],[-1,1],[-1,-1]]})"}};
+  return caps;
 }
 
-/// The tangent vector at every point: given ones first, then the other method's directions.
-void collect_tangents(const FitInput& input, const YongChengOptions& options, std::size_t n,
-                      std::vector<Vec2>& v) {
+/// The tangent vector at every point (prepare_input has checked that each has one).
+void collect_tangents(const FitInput& input, std::size_t n, std::vector<Vec2>& v) {
   v.assign(n, Vec2{});
-  std::vector<char> have(n, 0);
   for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
-    if (input.tangents[i]) {
-      v[i] = *input.tangents[i];
-      have[i] = 1;
-    }
+    if (input.tangents[i]) v[i] = *input.tangents[i];
   }
-  if (input.start_tangent) {
-    v[0] = *input.start_tangent;
-    have[0] = 1;
-  }
-  if (input.end_tangent && !input.closed) {
-    v[n - 1] = *input.end_tangent;
-    have[n - 1] = 1;
-  }
-  const auto missing = std::find(have.begin(), have.end(), 0);
-  if (missing == have.end()) return;
-  const std::size_t first = static_cast<std::size_t>(missing - have.begin());
-  if (options.tangents_from.empty()) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "yong-cheng needs a tangent vector at every point, but point " +
-                    std::to_string(first) +
-                    " has none: give 'tangents' in the input, or set the option "
-                    "tangents_from=<method> (e.g. jaklic-zagar) to take the missing directions "
-                    "from another method",
-                first);
-  }
-  if (options.tangents_from == "yong-cheng") {
-    throw Error(ErrorCode::kBadOption,
-                "tangents_from cannot be yong-cheng itself; name a method that chooses "
-                "directions from points alone (e.g. jaklic-zagar)");
-  }
-  FitResult other;
-  fit_into(options.tangents_from, input, nlohmann::json::object(), ReportLevel::kNone, other);
-  if (other.tangents.size() != n) {
-    throw Error(ErrorCode::kBadOption, "tangents_from=" + options.tangents_from + " returned " +
-                                           std::to_string(other.tangents.size()) +
-                                           " tangents for " + std::to_string(n) +
-                                           " points (did it insert points?)");
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!have[i]) v[i] = other.tangents[i];
-  }
+  if (input.start_tangent) v[0] = *input.start_tangent;
+  if (input.end_tangent && !input.closed) v[n - 1] = *input.end_tangent;
 }
 
 }  // namespace
 
 void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, ReportLevel level,
                     FitResult& out) {
-  const std::size_t spans = detail::prepare_input(input, {2, 3, "yong-cheng"}, out);
+  const std::size_t spans =
+      detail::prepare_input(input, yong_cheng_capabilities(), "yong-cheng", out);
   const std::size_t n = out.points.size();
-  for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
-    if (input.kinds[i] == PointKind::kCorner) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "point " + std::to_string(i) +
-                      " is a corner, but yong-cheng builds one G1 curve with one tangent per "
-                      "point; split the input at the corner",
-                  i);
-    }
-  }
   std::vector<Vec2> v;
-  collect_tangents(input, options, n, v);
+  collect_tangents(input, n, v);
   out.spline.closed = out.closed;
   out.tangents.resize(n);
   for (std::size_t i = 0; i < n; ++i) out.tangents[i] = safe_unit(v[i]);
@@ -927,7 +892,7 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
     }
   }
   out.method_report = {{"composite", options.composite},
-                       {"ratio", ratio_name(options.ratio)},
+                       {"ratio", kRatio.name(options.ratio)},
                        {"tangents_from", options.tangents_from}};
   if (report) {
     out.method_report["spans"] = std::move(span_reports);
@@ -951,49 +916,39 @@ FitResult fit_yong_cheng(const FitInput& input, const YongChengOptions& options,
 namespace fairspline::detail {
 
 std::vector<MethodInfo> yong_cheng_methods() {
-  MethodInfo m{
-      "yong-cheng",
-      "Hermite G1 spline through points with given tangent directions: each span is the "
-      "optimized geometric Hermite (OGH) cubic of least strain energy, or a composite of two or "
-      "three OGH pieces (M1-M7 and mirror images) when the angles would give a loop, cusp, fold "
-      "or reversed tangent.",
-      "J.-H. Yong, F. Cheng, Geometric Hermite curves with minimum strain energy, Computer "
-      "Aided Geometric Design 21 (2004), Theorems 2-7",
-      {OptionSpec{"composite",
-                  OptionType::kBoolean,
-                  true,
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "use composite (COH) curves where a single OGH curve would violate the "
-                  "geometric smoothness conditions (6); false keeps one OGH per span and reports "
-                  "spans whose directions are reversed"},
-       OptionSpec{"ratio",
-                  OptionType::kChoice,
-                  "free",
-                  std::nullopt,
-                  std::nullopt,
-                  {"free", "equal"},
-                  "free: independent optimized coefficients a0, a1 (Theorem 2); equal: a0 = a1 "
-                  "(the equal-ratio variant, one piece per span, error if a* <= 0)"},
-       OptionSpec{"tangents_from",
-                  OptionType::kString,
-                  "",
-                  std::nullopt,
-                  std::nullopt,
-                  {},
-                  "registered method that supplies the tangent directions missing from the "
-                  "input (e.g. jaklic-zagar); empty: every point needs a tangent"}},
-      [](const FitInput& in, const nlohmann::json& o, ReportLevel level, FitResult& out) {
-        YongChengOptions opt;
-        opt.composite = o.at("composite").get<bool>();
-        opt.ratio = o.at("ratio").get<std::string>() == "equal" ? YongChengRatio::kEqual
-                                                                : YongChengRatio::kFree;
-        opt.tangents_from = o.at("tangents_from").get<std::string>();
-        fit_yong_cheng(in, opt, level, out);
-      },
-      /*checks_own_output=*/false};
-  return {m};
+  return {{
+      .name = "yong-cheng",
+      .description =
+          "Hermite G1 spline through points with given tangent directions: each span is the "
+          "optimized geometric Hermite (OGH) cubic of least strain energy, or a composite of two "
+          "or three OGH pieces (M1-M7 and mirror images) when the angles would give a loop, "
+          "cusp, fold or reversed tangent.",
+      .paper = "J.-H. Yong, F. Cheng, Geometric Hermite curves with minimum strain energy, "
+               "Computer Aided Geometric Design 21 (2004), Theorems 2-7",
+      .options = {{.name = "composite",
+                   .type = OptionType::kBoolean,
+                   .default_value = true,
+                   .doc = "use composite (COH) curves where a single OGH curve would violate the "
+                          "geometric smoothness conditions (6); false keeps one OGH per span and "
+                          "reports spans whose directions are reversed"},
+                  {.name = "ratio",
+                   .type = OptionType::kChoice,
+                   .default_value = "free",
+                   .choices = kRatio.names(),
+                   .doc = "free: independent optimized coefficients a0, a1 (Theorem 2); equal: "
+                          "a0 = a1 (the equal-ratio variant, one piece per span, error if a* <= "
+                          "0)"}},
+      // tangents_from is added by the registry (TangentUse::kRequired).
+      .fit =
+          [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
+            YongChengOptions opt;
+            opt.composite = o.at("composite").get<bool>();
+            opt.ratio = kRatio.parse(o.at("ratio").get<std::string>());
+            opt.tangents_from = o.at(kTangentsFromOption).get<std::string>();
+            fit_yong_cheng(in, opt, f.level, out);
+          },
+      .capabilities = yong_cheng_capabilities(),
+  }};
 }
 
 }  // namespace fairspline::detail

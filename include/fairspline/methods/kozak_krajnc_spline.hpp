@@ -93,6 +93,9 @@ struct KozakKrajncOptions {
   bool remainder_hermite = false;  ///< finish 3m+2 / 3m+3 points with G1 Hermite cubics
   bool g2 = false;                 ///< Newton on (1.4) for the interior directions
   int g2_max_iterations = 30;
+  /// A G2 iteration that does not converge returns the G1 spline with its SolverStatus
+  /// (FitResult::solver) instead of throwing Error(kNotConverged).
+  bool best_effort = false;
 };
 
 /// The method: see docs/methods/kozak-krajnc.md.

@@ -66,6 +66,9 @@ struct MinEnergyOptions {
   /// Stop when the projected gradient's largest entry is below tolerance · max(1/L_i) (the
   /// natural size of the gradient for the data's chord lengths).
   double tolerance = 1e-10;
+  /// At the iteration cap, return the curve with SolverStatus::kIterationLimit (FitResult::solver)
+  /// instead of throwing Error(kNotConverged).
+  bool best_effort = false;
 };
 
 /// Outcome of the optimizer (also in FitResult::method_report).

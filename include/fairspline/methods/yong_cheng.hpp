@@ -193,16 +193,17 @@ struct YongChengOptions {
   /// even if it reverses a direction (reported as preserved = false).
   bool composite = true;
   YongChengRatio ratio = YongChengRatio::kFree;
-  /// Registered method that supplies the directions missing from FitInput::tangents
-  /// (empty: every point needs a tangent).
+  /// The registry option that supplied the missing directions (fit() fills them in before this
+  /// method runs; recorded in method_report). A direct call needs a tangent at every point.
   std::string tangents_from;
 };
 
 /// Fits a G1 spline through points with a tangent vector at each point: every span is an OGH
 /// curve or a COH curve (Segment::span tells which input span a piece belongs to; a span's
 /// parameter interval is split among its pieces in proportion to their chords). Tangents come
-/// from FitInput::tangents (and start_tangent / end_tangent for an open curve); missing ones
-/// from options.tangents_from, else Error(kInvalidArgument) names the point.
+/// from FitInput::tangents (and start_tangent / end_tangent for an open curve); a point without
+/// one is Error(kInvalidArgument) naming it (through fit(), the registry option tangents_from
+/// fills them in first).
 /// method_report (level != kNone): per span `construction` ("M4^RT"), `pieces`, `theta_deg`,
 /// `phi_deg`, `coefficients` ([[a0, a1], ...] relative to the given tangent vectors at the
 /// span's ends and unit vectors at joints, on each piece's parameter interval) and `preserved`;
