@@ -1,6 +1,6 @@
 // Work proportional to n for every registered method (issue 9: "no fit runs longer than a bound
-// proportional to n"). Each method fits a gentle wave (which every method accepts, kozak-krajnc
-// included: 3m + 1 points) at n = 1e3 .. 1e6 points without a report; Google Benchmark fits
+// proportional to n"). Each method fits a gentle wave, adapted to what its capabilities declare
+// (tests/capability_inputs.hpp) at n = 1e3 .. 1e6 points without a report; Google Benchmark fits
 // time = c·n and prints the coefficient and the RMS of the relative residuals
 // (scaling/<method>_BigO, _RMS): an RMS of a few percent means linear time.
 //   scaling/<method>/<n>          fit, ReportLevel::kNone
@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
+#include "capability_inputs.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/registry.hpp"
 
@@ -37,13 +38,12 @@ FitInput wave(std::size_t n) {
 }
 
 nlohmann::json options_for(const std::string& method) {
-  if (method == "yong-cheng") return {{"tangents_from", "jaklic-zagar"}};
-  return nlohmann::json::object();
+  return fairspline::testing::options_for_any_points(fairspline::find_method(method));
 }
 
 FitInput input_for(const std::string& method, std::size_t n) {
   FitInput in = wave(n);
-  if (method == "li-curvature-variation") in.start_tangent = fairspline::Vec2{1.0, 0.0};
+  fairspline::testing::clamp_if_needed(fairspline::find_method(method), in);
   return in;
 }
 

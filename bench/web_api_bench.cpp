@@ -3,7 +3,7 @@
 // points, the editor's budget being <= 16 ms per fit (issue 7). Run with
 //   build/bench/fairspline_bench --benchmark_filter=api_fit
 // The data is what a user draws: 200 points along a wave across the editor's 1000x700 frame
-// (199 for kozak-krajnc, which needs 3m+1 points).
+// (fewer where a method's point-count rule asks: 199 for 3m+1).
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
+#include "capability_inputs.hpp"
 #include "fairspline/registry.hpp"
 #include "server.hpp"
 
@@ -23,14 +24,16 @@ std::string editor_request(const std::string& method, std::size_t n) {
     points.push_back({50.0 + 900.0 * t / static_cast<double>(n - 1),
                       350.0 + 200.0 * std::sin(t / 12.0) + 40.0 * std::sin(t / 3.7)});
   }
-  nlohmann::json body = {{"points", points}, {"method", method}};
-  if (method == "yong-cheng") body["options"] = {{"tangents_from", "jaklic-zagar"}};
-  if (method == "li-curvature-variation") body["start_tangent"] = {1.0, 0.0};
+  const fairspline::MethodInfo& m = fairspline::find_method(method);
+  nlohmann::json body = {{"points", points},
+                         {"method", method},
+                         {"options", fairspline::testing::options_for_any_points(m)}};
+  if (m.capabilities.needs_clamped_tangent) body["start_tangent"] = {1.0, 0.0};
   return body.dump();
 }
 
 void bm_api_fit(benchmark::State& state, const std::string& method) {
-  const std::size_t n = method == "kozak-krajnc" ? 199 : 200;
+  const std::size_t n = fairspline::testing::accepted_count(fairspline::find_method(method), 200);
   const std::string body = editor_request(method, n);
   const fairspline::web::ServerOptions options;
   const fairspline::web::ApiResponse check = fairspline::web::handle_fit(body, options);

@@ -57,6 +57,10 @@ void print_error(const Error& e) {
   }
   std::cerr << "fairspline: error [" << fairspline::error_code_name(e.code()) << "]" << where
             << ": " << e.what() << "\n";
+  if (e.hint()) {
+    const std::string value = e.hint()->value.empty() ? "VALUE" : e.hint()->value;
+    std::cerr << "fairspline: hint: --set " << e.hint()->name << "=" << value << "\n";
+  }
 }
 
 [[noreturn]] void usage_fail(const std::string& message) {
@@ -139,6 +143,8 @@ struct FitArgs {
   std::string report = "full";
   bool summary = false;
   int indent = -1;
+  double accuracy = fairspline::FitOptions::kDefaultAccuracy;
+  bool best_effort = false;
   CLI::Option* alpha_opt = nullptr;
 };
 
@@ -197,7 +203,9 @@ int run_fit(const FitArgs& a) {
 
   // 3. Fit (errors here: exit 1).
   const fairspline::io::SvgOptions svg = fairspline::io::svg_options_from_json(svg_keys);
-  const fairspline::FitResult result = fairspline::fit(method, in, options, level);
+  const fairspline::FitResult result = fairspline::fit(
+      method, in, options,
+      fairspline::FitOptions{.level = level, .accuracy = a.accuracy, .best_effort = a.best_effort});
 
   // 4. Output.
   std::string text;
@@ -224,9 +232,7 @@ int run_fit(const FitArgs& a) {
 
 int run_methods(bool as_json) {
   if (as_json) {
-    json all = json::array();
-    for (const auto& m : fairspline::methods()) all.push_back(fairspline::method_schema(m));
-    std::cout << all.dump(2) << "\n";
+    std::cout << fairspline::registry_schema().dump(2) << "\n";
     return kExitOk;
   }
   for (const auto& m : fairspline::methods()) {
@@ -401,6 +407,12 @@ int run(int argc, char** argv) {
   fit->add_option("-o,--output", fa.output, "Output file (default: standard output)");
   fit->add_option("--report", fa.report, "Report level (default: full)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
+  fit->add_option("--accuracy", fa.accuracy,
+                  "Relative accuracy of the report's quadratures and searches, in (0, 1) "
+                  "(default: 1e-9)");
+  fit->add_flag("--best-effort", fa.best_effort,
+                "When an iterative method stops short of its tolerance, write its curve with the "
+                "solver's status instead of failing");
   fit->add_flag("--summary", fa.summary,
                 "Print a summary table (to stdout with -o, else to stderr)");
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")

@@ -74,9 +74,8 @@ ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& optio
 }  // namespace
 
 ApiResponse handle_methods() {
-  nlohmann::json all = nlohmann::json::array();
-  for (const MethodInfo& m : methods()) all.push_back(method_schema(m));
-  return {200, nlohmann::json{{"default", default_method_name()}, {"methods", all}}.dump()};
+  return {200,
+          nlohmann::json{{"default", default_method_name()}, {"methods", registry_schema()}}.dump()};
 }
 
 ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {

@@ -211,9 +211,12 @@ await run(async ({ page, url }) => {
     const res = {};
     const { methods } = await (await fetch('/api/methods')).json();
     for (const m of methods) {
-      const body = { points: m.name === 'kozak-krajnc' ? points.slice(0, 199) : points, method: m.name };
-      if (m.name === 'yong-cheng') body.options = { tangents_from: 'jaklic-zagar' };
-      if (m.name === 'li-curvature-variation') body.start_tangent = [1, 0];
+      // What each method needs, from its declared capabilities (no method names here).
+      const caps = m.capabilities;
+      const step = caps.points.step ?? 1;
+      const body = { points: points.slice(0, points.length - ((points.length - 1) % step)), method: m.name };
+      if (caps.tangents === 'required') body.options = { tangents_from: 'jaklic-zagar' };
+      if (caps.needs_clamped_tangent) body.start_tangent = [1, 0];
       const r = await fetch('/api/fit', { method: 'POST', body: JSON.stringify(body) });
       res[m.name] = r.ok ? Number(/dur=([\d.]+)/.exec(r.headers.get('Server-Timing'))[1]) : `HTTP ${r.status}`;
     }
@@ -222,4 +225,26 @@ await run(async ({ page, url }) => {
   console.log(`info: server fit time at 200 points (ms): ${JSON.stringify(perMethod)}`);
   check(Object.values(perMethod).every((v) => typeof v === 'number'), 'every method fits the 200-point wave');
   await page.screenshot({ path: `${out}/editor-200-points.png` });
+
+  // ---- every registered method: its example requests open in the editor, and the form shows
+  // only the point kinds and the closed box that the method's capabilities allow ----
+  const { methods } = await page.evaluate(async () => (await fetch('/api/methods')).json());
+  for (const m of methods) {
+    for (const [k, example] of m.examples.entries()) {
+      await page.goto(url);
+      await page.reload();
+      await page.waitForSelector('[data-testid="method"] option', { state: 'attached' });
+      const file = { ...example, method: m.name };
+      await page.setInputFiles('[data-testid="import-file"]', { name: `${m.name}-${k}.json`, mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(file)) });
+      const expected = await page.evaluate(async (body) => {
+        const r = await fetch('/api/fit', { method: 'POST', body: JSON.stringify(body) });
+        return r.ok ? (await r.json()).segments.length : -1;
+      }, file);
+      check(expected > 0, `${m.name} example ${k} fits through the API`);
+      await waitForPieces(page, m.name, expected);
+      const shown = await page.$$eval('[data-testid^="kind-"]', (rs) => rs.filter((r) => !r.closest('label').hidden).map((r) => r.value));
+      check(JSON.stringify(shown) === JSON.stringify(m.capabilities.kinds), `${m.name}: the form offers the kinds ${shown} (declared ${m.capabilities.kinds})`);
+      check(await page.isDisabled('[data-testid="closed"]') === !m.capabilities.closed, `${m.name}: the closed box follows the capabilities`);
+    }
+  }
 });

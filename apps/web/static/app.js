@@ -364,7 +364,26 @@ function optionControl(opt) {
   }
 }
 
+/** What the method accepts (its registry capabilities); a method of an older server has none. */
+function capabilitiesOf(name) {
+  return methodInfo(name)?.capabilities ?? { closed: true, kinds: KINDS };
+}
+
+/**
+ * The form shows only what the method honours: point kinds it refuses are hidden, and the
+ * closed box is disabled (with the reason) for methods that draw open curves only.
+ */
+function applyCapabilities() {
+  const caps = capabilitiesOf(state.method);
+  el.kindBox.querySelectorAll('input').forEach((r) => {
+    r.closest('label').hidden = !caps.kinds.includes(r.value);
+  });
+  el.closed.disabled = !caps.closed;
+  el.closed.closest('label').title = caps.closed ? '' : `${state.method} draws open curves only`;
+}
+
 function buildOptionsForm() {
+  applyCapabilities();
   const info = methodInfo(state.method);
   el.methodDesc.textContent = info ? `${info.description}${info.paper ? ` — ${info.paper}` : ''}` : '';
   el.options.replaceChildren();
@@ -646,8 +665,9 @@ function renderKinds() {
 function renderSelection() {
   const i = state.selected;
   const ok = i >= 0 && i < state.points.length;
+  const kinds = capabilitiesOf(state.method).kinds;
   el.kindBox.querySelectorAll('input').forEach((r) => {
-    r.disabled = !ok;
+    r.disabled = !ok || !kinds.includes(r.value);
     r.checked = ok && r.value === state.kinds[i];
   });
   el.kindLabel.textContent = ok ? `point ${i}` : 'no point selected';

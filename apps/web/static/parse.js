@@ -33,6 +33,14 @@ function fromJson(text) {
     data.tangents.forEach((t, i) => { if (t !== null && !finitePair(t)) throw new Error(`tangents[${i}] is not [x, y] or null`); });
     out.tangents = data.tangents.map((t) => (t ? [...t] : null));
   }
+  // Clamped end tangents (the library's start_tangent / end_tangent) are clamped end points here.
+  for (const [key, i] of [['start_tangent', 0], ['end_tangent', n - 1]]) {
+    if (data[key] == null || (key === 'end_tangent' && data.closed)) continue;
+    if (!finitePair(data[key])) throw new Error(`"${key}" is not [x, y]`);
+    out.tangents ??= Array(n).fill(null);
+    out.tangents[i] = [...data[key]];
+    if (out.kinds) out.kinds[i] = 'clamped';
+  }
   if (data.alpha != null) {
     if (typeof data.alpha !== 'number' || !Number.isFinite(data.alpha)) throw new Error('"alpha" must be a number');
     out.alpha = data.alpha;
