@@ -2,7 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <string>
+
 #include "fairspline/error.hpp"
+#include "fairspline/io/json.hpp"
+#include "test_util.hpp"
 
 namespace fairspline {
 namespace {
@@ -86,6 +94,107 @@ TEST(Registry, FitFillsMethodOptionsAndReport) {
   EXPECT_TRUE(r.report->regular);
   EXPECT_LT(r.report->max_interpolation_residual, 1e-15);
   EXPECT_FALSE(fit("li-combined", in, {}, ReportLevel::kNone).report.has_value());
+}
+
+}  // namespace
+}  // namespace fairspline
+
+namespace fairspline {
+namespace {
+
+// ---- capabilities ----
+
+TEST(RegistryCapabilities, EveryExampleRequestFits) {
+  for (const MethodInfo& m : methods()) {
+    ASSERT_FALSE(m.capabilities.examples.empty()) << m.name << " has no example request";
+    for (const std::string& e : m.capabilities.examples) {
+      SCOPED_TRACE(m.name + " " + e);
+      const io::ParsedInput req = io::parse_json_input(e);
+      EXPECT_FALSE(req.method.has_value()) << "examples name no method: they belong to one";
+      const FitResult r = fit(m.name, req.input, req.options);
+      EXPECT_FALSE(r.spline.segments.empty());
+      EXPECT_EQ(req.input.closed, r.closed);
+      if (m.capabilities.regular) EXPECT_TRUE(r.report->regular);
+    }
+  }
+}
+
+TEST(RegistryCapabilities, SchemaShowsThem) {
+  const nlohmann::json all = registry_schema();
+  ASSERT_EQ(all.size(), methods().size());
+  for (const nlohmann::json& s : all) {
+    const Capabilities& c = find_method(s.at("name").get<std::string>()).capabilities;
+    const nlohmann::json& j = s.at("capabilities");
+    EXPECT_EQ(j.at("closed"), c.closed);
+    EXPECT_EQ(j.at("continuity"), continuity_name(c.continuity));
+    EXPECT_EQ(j.at("tangents"), tangent_use_name(c.tangents));
+    EXPECT_EQ(j.at("points").at("min_open"), c.points.min_open);
+    EXPECT_EQ(s.at("examples").size(), c.examples.size());
+    EXPECT_EQ(j.at("kinds").at(0), "smooth");
+  }
+  const nlohmann::json kk = method_schema(find_method("kozak-krajnc")).at("capabilities");
+  EXPECT_EQ(kk.at("points").at("step"), 3);
+  EXPECT_EQ(kk.at("points").at("relaxed_by"), nlohmann::json({{"remainder", "hermite"}}));
+  EXPECT_EQ(kk.at("closed"), false);
+}
+
+/// Each rule, for every method that declares it, gives the same code, index and sentence.
+TEST(RegistryCapabilities, PrepareInputEnforcesThemForEveryMethod) {
+  for (const MethodInfo& m : methods()) {
+    SCOPED_TRACE(m.name);
+    const Capabilities& c = m.capabilities;
+    if (!c.honours(PointKind::kCorner)) {
+      io::ParsedInput req = io::parse_json_input(c.examples.front());
+      req.input.kinds.assign(req.input.points.size(), PointKind::kSmooth);
+      req.input.kinds[1] = PointKind::kCorner;
+      testing::expect_error(ErrorCode::kInvalidArgument,
+                            [&] { fit(m.name, req.input, req.options); },
+                            {"point 1 is a corner, but "});
+    }
+    if (!c.closed) {
+      io::ParsedInput req = io::parse_json_input(c.examples.front());
+      req.input.closed = true;
+      testing::expect_error(ErrorCode::kInvalidArgument,
+                            [&] { fit(m.name, req.input, req.options); },
+                            {"interpolates open curves only"});
+    }
+    if (c.tangents == TangentUse::kRequired) {
+      FitInput in;
+      in.points = {{0, 0}, {1, 1}, {2, 0}};
+      in.tangents = {Vec2{1, 0}, std::nullopt, Vec2{1, 0}};
+      const Error e = testing::expect_error(ErrorCode::kInvalidArgument, [&] { fit(m.name, in); },
+                                            {"point 1 has none"});
+      EXPECT_EQ(e.index(), std::optional<std::size_t>(1));
+      const FitResult r = fit(m.name, in, {{std::string(kTangentsFromOption), "jaklic-zagar"}});
+      EXPECT_EQ(r.tangents.size(), 3u);
+    }
+    if (c.points.step > 1) {
+      FitInput in;
+      for (std::size_t i = 0; i < c.points.step + 2; ++i) {  // on an arc: no parallel chords
+        in.points.push_back(
+            {std::cos(0.3 * static_cast<double>(i)), std::sin(0.3 * static_cast<double>(i))});
+      }
+      const Error e = testing::expect_error(ErrorCode::kWrongPointCount, [&] { fit(m.name, in); },
+                                            {"m+1 points"});
+      EXPECT_EQ(e.index(), std::optional<std::size_t>(in.points.size() - 1));
+      const FitResult r =
+          fit(m.name, in, {{std::string(c.points.relaxed_by), c.points.relaxed_value}});
+      EXPECT_EQ(r.points.size(), in.points.size());
+    }
+  }
+}
+
+/// README's method table names every registered method (the one doc edit a method needs
+/// besides its own page).
+TEST(RegistryCapabilities, ReadmeTableListsEveryMethod) {
+  std::ifstream f(std::string(FAIRSPLINE_SOURCE_DIR) + "/README.md");
+  const std::string readme((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::size_t begin = readme.find("## Methods\n");
+  ASSERT_NE(begin, std::string::npos);
+  const std::string table = readme.substr(begin, readme.find("\n## ", begin + 1) - begin);
+  for (const MethodInfo& m : methods()) {
+    EXPECT_NE(table.find("`" + m.name + "`"), std::string::npos) << m.name;
+  }
 }
 
 }  // namespace
