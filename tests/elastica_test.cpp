@@ -401,8 +401,9 @@ TEST(Elastica, FiniteEverywhereIncludingTheEdges) {
 }
 
 TEST(Elastica, InTheBoxThePieceIsTheUniqueElasticaArc) {
-  // A 1000-point scan of the first-order conditions finds exactly one piece in the box
-  // |α|, |β| ≤ π/2 (boundary included), and it is the one elastica_arc returns.
+  // A 1000-point scan of the first-order conditions (with the search for root pairs inside a
+  // cell) finds exactly one piece in the box |α|, |β| ≤ π/2 (boundary included), and it is the
+  // one elastica_arc returns. (A 0.5° grid of the canonical half, 400 points each: the same.)
   int n = 0;
   for (double a = -90; a <= 90; a += 7.5)
     for (double b = -90; b <= 90; b += 7.5) {
@@ -417,19 +418,45 @@ TEST(Elastica, InTheBoxThePieceIsTheUniqueElasticaArc) {
 }
 
 TEST(Elastica, OutsideTheBoxTheLeastEnergyCandidateIsChosen) {
-  // Outside the box there can be two elastica arcs (a fold) and the U-turn piece: the 48-point
-  // scan of elastica_energy must find the least-energy one of a 2000-point scan.
-  int several = 0;
-  for (const auto& [a, b] : domain_grid(5.0)) {
-    if (std::abs(a) <= kPi / 2 && std::abs(b) <= kPi / 2) continue;
-    const auto all = elastica_candidates({0, 0}, {1, 0}, a, b, 2000);
-    ASSERT_FALSE(all.empty()) << a / kDeg << " " << b / kDeg;
-    double best = all[0].unit_energy;
-    for (const ElasticaArc& c : all) best = std::min(best, c.unit_energy);
-    EXPECT_LT(rel(elastica_energy(a, b).e, best), 1e-12) << a / kDeg << " " << b / kDeg;
-    if (all.size() > 1) ++several;
+  // Outside the box there can be two elastica arcs and the U-turn piece: the 48-point scan of
+  // elastica_energy must find the least-energy one of a 2000-point scan. Canonical angles
+  // (a ≥ |b|, the rest follows by symmetry) on a 2° grid.
+  int several = 0, n = 0;
+  for (double a = 92; a < 180; a += 2)
+    for (double b = a - 180; b <= a; b += 2) {
+      const auto all = elastica_candidates({0, 0}, {1, 0}, a * kDeg, b * kDeg, 2000);
+      ASSERT_FALSE(all.empty()) << a << " " << b;
+      double best = all[0].unit_energy;
+      for (const ElasticaArc& c : all) best = std::min(best, c.unit_energy);
+      EXPECT_LT(rel(elastica_energy(a * kDeg, b * kDeg).e, best), 1e-12) << a << " " << b;
+      if (all.size() > 1) ++several;
+      ++n;
+    }
+  EXPECT_GT(n, 3500);
+  EXPECT_GT(several, 100);  // the folds and the U-turn region are really there
+  // Two elastica arcs 0.06 apart in u1, inside one cell of the scan, the lower one the
+  // minimizer (a uniform sign-change scan took the U-turn piece, 17.886284407289).
+  const ElasticaArc arc = elastica_arc({0, 0}, {1, 0}, 118.2 * kDeg, 50 * kDeg);
+  EXPECT_EQ(arc.kind, ElasticaArc::Kind::kElastica);
+  EXPECT_NEAR(arc.unit_energy, 17.882798764268, 1e-11);
+}
+
+TEST(Elastica, UTurnTakesOverWhereCurveEnsemblePutsIt) {
+  // Where the U-turn piece starts to win, in canonical angles (a ≥ |b|): Curve Ensemble's
+  // approximation of that curve (alpha1 in its elastic_spline_lib.h, believed to be within
+  // 0.001 rad) gives 105.72°, 123.72°, 118.33° and 102.42° at b = −70°, 5°, 50°, 95°.
+  auto uturn = [](double a, double b) {
+    return elastica_arc({0, 0}, {1, 0}, a, b).kind == ElasticaArc::Kind::kUTurn;
+  };
+  for (const auto& [b_deg, ce_deg] :
+       {std::pair{-70.0, 105.72}, {5.0, 123.72}, {50.0, 118.33}, {95.0, 102.42}}) {
+    const double b = b_deg * kDeg;
+    double lo = std::max(kPi / 2, std::abs(b)), hi = std::min(kPi - 1e-6, b + kPi);
+    ASSERT_FALSE(uturn(lo, b));
+    ASSERT_TRUE(uturn(hi, b));
+    for (int it = 0; it < 40; ++it) (uturn(0.5 * (lo + hi), b) ? hi : lo) = 0.5 * (lo + hi);
+    EXPECT_NEAR(hi / kDeg, ce_deg, 0.06) << b_deg;
   }
-  EXPECT_GT(several, 20);  // the folds and the U-turn region are really there
 }
 
 // ---- Bézier approximation -------------------------------------------------------------------

@@ -325,18 +325,61 @@ bool uturn_candidate(const Canonical& k, Candidate& r) {
   return true;
 }
 
-/// Every root of G on [lo, hi] found by sampling (robust path, outside the box), refined.
+/// Every root of G on [lo, hi]: sign changes between `samples` + 1 samples, and pairs of roots
+/// inside one cell, found where G turns back towards zero inside it (the derivative changes
+/// sign; the extremum is located by golden section). Such pairs occur just below the U-turn
+/// threshold, e.g. two roots 0.06 apart at (118.2°, 50°), and one of them can be the minimizer.
 template <class Out>
 void scan_roots(const Canonical& k, double lo, double hi, int samples, Out&& out) {
-  double xprev = lo, gprev = path_at(k, lo, false).g;
+  struct Sample {
+    double x, g, dg;
+  };
+  auto sample = [&](double x) {
+    const PathPoint p = path_at(k, x, true);
+    double dg = p.dg;
+    if (!std::isfinite(dg)) {  // at the ends G has a square-root singularity: one-sided slope
+      const double h = 1e-7 * (hi - lo) * (x > lo ? -1.0 : 1.0);
+      dg = (path_at(k, x + h, false).g - p.g) / h;
+    }
+    return Sample{x, p.g, dg};
+  };
+  Sample prev = sample(lo);
   for (int i = 1; i <= samples; ++i) {
-    const double x = i == samples ? hi : lo + (hi - lo) * i / samples;
-    const double g = path_at(k, x, false).g;
-    if (gprev == 0.0 && i > 1) out(xprev);
-    if ((gprev > 0.0 && g < 0.0) || (gprev < 0.0 && g > 0.0))
-      out(bracketed_newton(k, xprev, x, gprev, 0.5 * (xprev + x)).u1);
-    xprev = x;
-    gprev = g;
+    const Sample cur = sample(i == samples ? hi : lo + (hi - lo) * i / samples);
+    if (prev.g == 0.0 && i > 1) out(prev.x);
+    if ((prev.g > 0.0 && cur.g < 0.0) || (prev.g < 0.0 && cur.g > 0.0)) {
+      out(bracketed_newton(k, prev.x, cur.x, prev.g, 0.5 * (prev.x + cur.x)).u1);
+    } else if (prev.g != 0.0 && cur.g != 0.0) {
+      const double s = prev.g > 0.0 ? 1.0 : -1.0;  // both of this sign
+      if (s * prev.dg < 0.0 && s * cur.dg > 0.0) {
+        // Golden section for the minimum of s·G; stop as soon as it changes sign.
+        constexpr double kGold = 0.6180339887498949;
+        double a = prev.x, b = cur.x;
+        double x1 = b - kGold * (b - a), x2 = a + kGold * (b - a);
+        double f1 = s * path_at(k, x1, false).g, f2 = s * path_at(k, x2, false).g;
+        for (int it = 0; it < 60 && f1 > 0.0 && f2 > 0.0; ++it) {
+          if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - kGold * (b - a);
+            f1 = s * path_at(k, x1, false).g;
+          } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + kGold * (b - a);
+            f2 = s * path_at(k, x2, false).g;
+          }
+        }
+        const double xm = f1 <= 0.0 ? x1 : x2;
+        if (std::min(f1, f2) < 0.0) {
+          out(bracketed_newton(k, prev.x, xm, prev.g, 0.5 * (prev.x + xm)).u1);
+          out(bracketed_newton(k, xm, cur.x, -prev.g, 0.5 * (xm + cur.x)).u1);
+        }
+      }
+    }
+    prev = cur;
   }
 }
 
