@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,8 @@
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/registry.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
 namespace fairspline {
 namespace {
@@ -107,6 +110,22 @@ TEST(Plugin, CapabilitiesAreEnforcedForIt) {
     EXPECT_EQ(e.index(), std::optional<std::size_t>(1));
     EXPECT_NE(std::string(e.what()).find(kName), std::string::npos) << e.what();
   }
+}
+
+TEST(Plugin, TheFuzzerFindsItByName) {
+  // fuzz_fit (compiled into this program) names its method as a string: the new method is in
+  // its table with no edit, and no committed input changes method.
+  std::string bytes = std::string(kName) + '\0';
+  bytes += std::string("\x01\x00\x05", 3);  // no reuse; flags 0; five points
+  for (int i = 0; i < 5; ++i) bytes += std::string("\x08\x00\x01\x00\x00\x02\x00", 7);
+  setenv("FUZZ_FIT_PRINT", "1", 1);
+  ::testing::internal::CaptureStderr();
+  LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+  const std::string printed = ::testing::internal::GetCapturedStderr();
+  unsetenv("FUZZ_FIT_PRINT");
+  EXPECT_NE(printed.find(std::string("\"method\":\"") + kName + "\""), std::string::npos)
+      << printed;
+  EXPECT_EQ(printed.find("\"registered\":false"), std::string::npos) << printed;
 }
 
 TEST(Plugin, RegisteringANameTwiceIsAnError) {
