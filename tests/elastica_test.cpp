@@ -418,7 +418,7 @@ TEST(Elastica, InTheBoxThePieceIsTheUniqueElasticaArc) {
 }
 
 TEST(Elastica, OutsideTheBoxTheLeastEnergyCandidateIsChosen) {
-  // Outside the box there can be two elastica arcs and the U-turn piece: the 48-point scan of
+  // Outside the box there can be two elastica arcs and the U-turn piece: the 24-point scan of
   // elastica_energy must find the least-energy one of a 2000-point scan. Canonical angles
   // (a ≥ |b|, the rest follows by symmetry) on a 2° grid.
   int several = 0, n = 0;
