@@ -128,17 +128,27 @@ TEST(Elastica, SmallAnglesFollowTheQuadraticFormOfRemark45) {
   const BasicEnergy q = basic_energy(BasicCurveMethod{MinEnergyBasis::kCondG2, 1.0}, 0.0, 0.0);
   EXPECT_DOUBLE_EQ(0.5 * 8.0, q.eaa);  // ½ × ours = quasi-elastic (½∫|c''|²)
   EXPECT_DOUBLE_EQ(0.5 * 4.0, q.eab);
-  // The remainder is O(angle⁴) along every direction, including the no-inflection side.
-  for (double w : {1.0, 0.3, -0.5, -0.9, -1.0}) {
-    for (double a : {1e-2, 1e-3}) {
-      const double b = w * a, quad = 4 * (a * a + a * b + b * b);
-      EXPECT_LT(std::abs(E(a, b) - quad), 2.0 * a * a * a * a) << w << " " << a;
+  // The next term: −(2/21)(4α⁴ + 2α³β + 3α²β² + 2αβ³ + 4β⁴) (the small-deflection beam with
+  // κ² ds = y''²(1 + y'²)^(−5/2) dx), checked against the solved arcs along several directions,
+  // including the side without inflection; the remainder is O(angle⁶) with coefficients < 0.03.
+  auto quartic = [](double a, double b) {
+    return 4 * (a * a + a * b + b * b) -
+           2.0 / 21.0 *
+               (4 * a * a * a * a + 2 * a * a * a * b + 3 * a * a * b * b + 2 * a * b * b * b +
+                4 * b * b * b * b);
+  };
+  for (double w : {1.0, 0.3, 0.0, -0.5, -0.9, -1.0}) {
+    for (double a : {5e-2, 2e-2}) {
+      const double b = w * a;
+      EXPECT_LT(std::abs(E(a, b) - quartic(a, b)), 0.03 * std::pow(a, 6)) << w << " " << a;
     }
-    // Continuity where the quadratic form takes over (largest angle 1e-8): just above it the
-    // solved energy is the quadratic form to far better than the O(angle²) remainder.
-    const double a = 1.5e-8, b = w * a;
-    EXPECT_LT(rel(E(a, b), 4 * (a * a + a * b + b * b)), 1e-9) << w;
+    // Continuity where the polynomial takes over (largest angle 1e-4): just above it the solved
+    // energy agrees (to 5e-12 near the apex, α = −β, where a short arc loses ~ε/angle).
+    const double a = 1.0000001e-4, b = w * a;
+    EXPECT_LT(rel(E(a, b), quartic(a, b)), 1e-11) << w;
   }
+  // (−10/7 for α = β, as the solver gives: (E − 4·3a²)/a⁴ at a = 0.01.)
+  EXPECT_NEAR((E(0.01, 0.01) - 12e-4) / 1e-8, -10.0 / 7.0, 1e-4);
 }
 
 TEST(Elastica, SameConventionsAsTheCubicBases) {

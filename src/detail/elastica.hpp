@@ -31,6 +31,11 @@ struct ElasticaEnergy {
 /// Error(kInfeasible) outside elastica_feasible, Error(kNonFinite) on NaN/Inf. Never returns
 /// NaN or Inf: where the second derivatives do not exist (the corners (±π/2, ∓π/2) of the box
 /// and the edge |α − β| = π) it returns those at distance 1e-16 from the edge (~1.7e8).
+/// In the box |α|, |β| ≤ π/2 E_1 is C¹, C² except at those corners, and the piece is always an
+/// elastica arc (consistent with end curvatures). Outside it E_1 has kinks where the minimizer
+/// switches between candidates; on α = β past 98.56° (a U-turn piece with both turns full) the
+/// gradient returned is the mean of the two one-sided ones. About 2 µs in the box, 15 µs
+/// outside it; for max(|α|, |β|) ≤ 1e-4 the degree-4 Taylor polynomial (docs).
 ElasticaEnergy elastica_energy(double alpha, double beta);
 
 /// The exact minimizing piece from p0 to p1. It is described on the canonical elastica
