@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fairspline/io/json.hpp"
 #include "fairspline/registry.hpp"
 #include "test_util.hpp"
 
@@ -60,7 +61,7 @@ TEST(Batch, FitManyEqualsFitOneByOneInInputOrder) {
   std::size_t last_done = 0, calls = 0;
   BatchOptions options;
   options.threads = 2;
-  options.level = ReportLevel::kBasic;
+  options.fit.level = ReportLevel::kBasic;
   options.progress = [&](std::size_t done, std::size_t total) {
     EXPECT_GT(done, last_done);
     EXPECT_EQ(total, jobs.size());
@@ -84,6 +85,8 @@ TEST(Batch, FitManyEqualsFitOneByOneInInputOrder) {
         jobs[i].method.empty() ? std::string(default_method_name()) : jobs[i].method;
     const FitResult one = fit(method, jobs[i].input, jobs[i].options, ReportLevel::kBasic);
     EXPECT_EQ(out[i].result->method, one.method);
+    // Every field, doubles bit for bit: the JSON text of the two is the same.
+    EXPECT_EQ(io::write_json(*out[i].result), io::write_json(one)) << i;
     ASSERT_EQ(out[i].result->spline.segments.size(), one.spline.segments.size());
     for (std::size_t s = 0; s < one.spline.segments.size(); ++s) {
       for (int k = 0; k < 4; ++k) {
@@ -107,7 +110,7 @@ TEST(Batch, FitManyGivesTheSameResultsForAnyThreadCount) {
     jobs.push_back(job);
   }
   BatchOptions options;
-  options.level = ReportLevel::kBasic;
+  options.fit.level = ReportLevel::kBasic;
   options.threads = 1;
   const std::vector<BatchOutcome> one = fit_many(jobs, options);
   for (unsigned threads : {2u, 3u, 0u}) {
@@ -133,6 +136,7 @@ TEST(Batch, FitManyGivesTheSameResultsForAnyThreadCount) {
       ASSERT_TRUE(a.report && b.report);
       EXPECT_EQ(b.report->linearized_energy, a.report->linearized_energy) << i;
       EXPECT_EQ(b.method_report, a.method_report) << i;
+      EXPECT_EQ(io::write_json(b), io::write_json(a)) << i;  // every field, bit for bit
     }
   }
   std::size_t failed = 0;

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -277,7 +278,8 @@ TEST_F(CliBatch, ReadsStandardInput) {
 
 TEST_F(CliBatch, RecordsEqualFitOutput) {
   // Each method on one curve: `fit` of the request file and the batch record agree exactly
-  // (doubles compared after parsing both), apart from the added "line".
+  // (doubles compared after parsing both), apart from the added "line": both are
+  // io::write_json, the batch record with "line" as an extra member.
   std::string text;
   std::vector<json> requests;
   for (const std::string method : {"jaklic-zagar", "li-strain", "li-combined", "quasi-elastic",
@@ -450,6 +452,45 @@ TEST_F(CliBatch, UsageAndIoErrorsExitTwo) {
   const CliRun help = run("batch --help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.out.find("--threads"), std::string::npos);
+}
+
+TEST_F(CliBatch, BestEffortAndAccuracyFromTheLineOrTheFlags) {
+  // Kozak-Krajnc's G2 Newton stalls on this example: the line fails unless a best effort is
+  // asked for, by the line ("best_effort": true) or by --best-effort for every line.
+  std::string csv = slurp(fs::path(FAIRSPLINE_SOURCE_DIR) / "examples" / "kozak-krajnc.csv");
+  json points = json::array();
+  std::istringstream lines(csv);
+  for (std::string line; std::getline(lines, line);) {
+    double x = 0, y = 0;
+    if (std::sscanf(line.c_str(), "%lf,%lf", &x, &y) == 2) points.push_back({x, y});
+  }
+  json request = {{"points", points}, {"method", "kozak-krajnc"}, {"options", {{"g2", true}}}};
+  json asked = request;
+  asked["best_effort"] = true;
+  const fs::path in = file("in.jsonl", request.dump() + "\n" + asked.dump() + "\n");
+  const CliRun plain = run("batch " + quote(in.string()));
+  EXPECT_EQ(plain.exit_code, 1);
+  const std::vector<json> a = parse_lines(plain.out);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].at("error").at("code"), "not_converged");
+  const json& solver = a[1].at("method_report").at("solver");
+  EXPECT_EQ(solver.at("status"), "stalled");
+  EXPECT_GT(solver.at("residual").get<double>(), solver.at("tolerance").get<double>());
+  const CliRun flag = run("batch " + quote(in.string()) + " --best-effort");
+  EXPECT_EQ(flag.exit_code, 0) << flag.err;
+  const std::vector<json> b = parse_lines(flag.out);
+  ASSERT_EQ(b.size(), 2u);
+  b[0].at("method_report").at("solver");  // a curve, not an error
+  // --accuracy overrides every line's; out of (0, 1) it fails each record with bad_option.
+  const fs::path walk = file("walk.jsonl", walk_request(9, 3).dump() + "\n");
+  const CliRun bad = run("batch " + quote(walk.string()) + " --accuracy 0");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(parse_lines(bad.out).at(0).at("error").at("code"), "bad_option");
+  json coarse_request = walk_request(9, 3);
+  coarse_request["accuracy"] = 0.0;
+  const fs::path coarse = file("coarse.jsonl", coarse_request.dump() + "\n");
+  EXPECT_EQ(run("batch " + quote(coarse.string())).exit_code, 1);
+  EXPECT_EQ(run("batch " + quote(coarse.string()) + " --accuracy 1e-6").exit_code, 0);
 }
 
 }  // namespace

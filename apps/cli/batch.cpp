@@ -18,7 +18,6 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -431,6 +430,8 @@ class Progress {
 struct Plan {
   std::vector<std::string> methods;  ///< -m; empty: the line's method or the default
   ReportLevel level = ReportLevel::kBasic;
+  std::optional<double> accuracy;  ///< overrides each line's
+  bool best_effort = false;        ///< or each line's
   std::size_t records_per_line() const { return std::max<std::size_t>(1, methods.size()); }
 };
 
@@ -441,83 +442,13 @@ std::string dump_line(json& record, std::size_t line_number) {
   return text;
 }
 
-// The record of a fit is what dump_line(io::to_json(result)) gives, byte for byte, but written
-// straight from the FitResult: building the JSON tree of a 20-point fit (~300 numbers, each a
-// node), dumping it and freeing it took 80% of the time of a batch; the big arrays are written
-// here and only the small objects (options, method_report, report) go through nlohmann.
-// Numbers use nlohmann's own formatter (detail::to_chars, what dump() calls), so the text is
-// identical; tests/cli_batch_test.cpp checks it against `fairspline fit` byte for byte.
-
-void append_number(std::string& out, double v) {
-  if (!std::isfinite(v)) {  // as dump(); never happens, the library checks its results
-    out += "null";
-    return;
-  }
-  char buf[64];
-  const char* end = nlohmann::detail::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, static_cast<std::size_t>(end - buf));
-}
-
-void append_point(std::string& out, Point p) {
-  out += '[';
-  append_number(out, p.x);
-  out += ',';
-  append_number(out, p.y);
-  out += ']';
-}
-
-template <class T, class Append>
-void append_array(std::string& out, const std::vector<T>& values, Append append) {
-  out += '[';
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    if (i != 0) out += ',';
-    append(out, values[i]);
-  }
-  out += ']';
-}
-
-void append_json(std::string& out, const json& value) {
-  out += value.dump(-1, ' ', false, json::error_handler_t::replace);
-}
-
-/// Keys in the order std::map (nlohmann's object) sorts them, as dump() writes them.
+/// The record of a fit: what `fairspline fit` writes (io::write_json), with "line" among its
+/// keys, appended to `out` (whose memory is reused from record to record).
 void append_fit_record(std::string& out, const FitResult& r, std::size_t line_number) {
-  out += "{\"closed\":";
-  out += r.closed ? "true" : "false";
-  out += ",\"knots\":";
-  append_array(out, r.knots, append_number);
-  out += ",\"line\":";
-  out += std::to_string(line_number);
-  out += ",\"method\":";
-  append_json(out, json(r.method));
-  out += ",\"method_report\":";
-  append_json(out, r.method_report.is_null() ? json::object() : r.method_report);
-  out += ",\"options\":";
-  append_json(out, r.options.is_null() ? json::object() : r.options);
-  out += ",\"points\":";
-  append_array(out, r.points, append_point);
-  if (r.report) {
-    out += ",\"report\":";
-    append_json(out, io::to_json(*r.report));
-  }
-  out += ",\"segments\":";
-  append_array(out, r.spline.segments, [](std::string& o, const Segment& s) {
-    o += "{\"bezier\":[";
-    for (int k = 0; k < 4; ++k) {
-      if (k != 0) o += ',';
-      append_point(o, s.bezier.p[k]);
-    }
-    o += "],\"span\":";
-    o += std::to_string(s.span);
-    o += ",\"t0\":";
-    append_number(o, s.t0);
-    o += ",\"t1\":";
-    append_number(o, s.t1);
-    o += '}';
-  });
-  out += ",\"tangents\":";
-  append_array(out, r.tangents, append_point);
-  out += "}\n";
+  thread_local json extra = {{"line", 0}};
+  extra["line"] = line_number;
+  io::write_json(r, out, -1, extra);
+  out += '\n';
 }
 
 /// A JSON syntax error names line 1 of the one-line text; say which line of the input it is
@@ -554,13 +485,16 @@ std::size_t fit_line(std::string_view text, std::size_t line_number, const Plan&
     }
     return records;
   }
+  FitOptions fit_options = parsed.fit_options(plan.level);
+  if (plan.accuracy) fit_options.accuracy = *plan.accuracy;
+  fit_options.best_effort = fit_options.best_effort || plan.best_effort;
   std::size_t failed = 0;
   for (std::size_t m = 0; m < records; ++m) {
     const std::string_view method = !plan.methods.empty() ? std::string_view(plan.methods[m])
                                     : parsed.method       ? std::string_view(*parsed.method)
                                                           : default_method_name();
     try {
-      fit_into(method, parsed.input, parsed.options, plan.level, scratch);
+      fit_into(method, parsed.input, parsed.options, fit_options, scratch);
       out[m].clear();
       append_fit_record(out[m], scratch, line_number);
     } catch (const Error& e) {
@@ -582,6 +516,8 @@ std::size_t fit_line(std::string_view text, std::size_t line_number, const Plan&
 int run_batch(const BatchArgs& args) {
   Plan plan;
   plan.level = io::parse_report_level(args.report);
+  plan.accuracy = args.accuracy;
+  plan.best_effort = args.best_effort;
   for (const std::string& m : args.methods) {
     plan.methods.emplace_back(find_method(m).name);  // unknown names fail before any work
   }

@@ -1,8 +1,11 @@
 // `fairspline batch`: fits a JSON Lines file of curves in parallel, streaming, in input order.
 #pragma once
 
+#include <optional>
 #include <string>
+
 #include <vector>
+#include "fairspline/fit.hpp"
 
 namespace fairspline::cli {
 
@@ -14,6 +17,8 @@ struct BatchArgs {
   std::vector<std::string> methods;  ///< -m, in order; empty: each line's "method" or the default
   std::string report = "basic";      ///< none | basic | full
   bool quiet = false;                ///< no progress line even on a terminal
+  std::optional<double> accuracy;    ///< --accuracy, else each line's, else the default
+  bool best_effort = false;          ///< --best-effort, or each line's
 };
 
 /// Runs the batch and returns the exit status: 0 every record succeeded, 1 some record failed

@@ -1,7 +1,9 @@
 #include "fairspline/io/json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,9 +15,9 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kInputFields[] = {"points",        "closed",      "tangents", "kinds",
-                                        "method",        "options",     "alpha",    "knots",
-                                        "start_tangent", "end_tangent", "lambdas"};
+constexpr const char* kInputFields[] = {
+    "points", "closed",        "tangents",    "kinds",   "method",   "options",    "alpha",
+    "knots",  "start_tangent", "end_tangent", "lambdas", "accuracy", "best_effort"};
 
 std::string field_list() {
   std::string s;
@@ -104,14 +106,6 @@ std::pair<std::size_t, std::size_t> line_column(std::string_view text, std::size
   return {line, col};
 }
 
-json opt_number(const std::optional<double>& v) {
-  return v ? json(*v) : json(nullptr);
-}
-
-json point_json(Point p) {
-  return json::array({p.x, p.y});
-}
-
 std::string fmt_number(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -183,9 +177,9 @@ class PathTracker : public nlohmann::json_sax<json> {
 
 constexpr int kMaxDepth = 64;
 
-}  // namespace
-
-ParsedInput parse_json_input(std::string_view text) {
+/// Parses a JSON document with messages for people: line and column of a syntax error (index =
+/// line), the field of a number that overflows double (kNonFinite), a nesting limit.
+json parse_document(std::string_view text) {
   json doc;
   try {
     // Reject absurd nesting early (messages and dumps of such values recurse).
@@ -218,7 +212,13 @@ ParsedInput parse_json_input(std::string_view text) {
                    " (byte " + std::to_string(e.byte) + "): " + reason,
                line);
   }
-  return input_from_json(doc);
+  return doc;
+}
+
+}  // namespace
+
+ParsedInput parse_json_input(std::string_view text) {
+  return input_from_json(parse_document(text));
 }
 
 ParsedInput input_from_json(const json& document) {
@@ -321,6 +321,16 @@ ParsedInput input_from_json(const json& document) {
     }
   }
 
+  if (auto it = document.find("accuracy"); it != document.end()) {
+    if (!it->is_number()) parse_fail("accuracy: expected a number, got " + preview(*it));
+    out.accuracy = finite_number(*it, "accuracy", std::nullopt);
+  }
+
+  if (auto it = document.find("best_effort"); it != document.end()) {
+    if (!it->is_boolean()) parse_fail("best_effort: expected true or false, got " + preview(*it));
+    out.best_effort = it->get<bool>();
+  }
+
   for (const char* field : {"start_tangent", "end_tangent"}) {
     auto it = document.find(field);
     if (it == document.end() || it->is_null()) continue;
@@ -330,72 +340,233 @@ ParsedInput input_from_json(const json& document) {
   return out;
 }
 
-json to_json(const Report& r) {
-  json j = {{"bending_energy", opt_number(r.bending_energy)},
-            {"linearized_energy", r.linearized_energy},
-            {"curvature_variation_energy", opt_number(r.curvature_variation_energy)},
-            {"length", opt_number(r.length)},
-            {"regular", r.regular},
-            {"max_tangent_angle_jump_deg", r.max_tangent_angle_jump_deg},
-            {"max_curvature_jump", r.max_curvature_jump},
-            {"min_relative_speed", r.min_relative_speed},
-            {"max_interpolation_residual", r.max_interpolation_residual},
-            {"energy_singular", r.energy_singular}};
-  // Per-segment reports and intersections exist only at the full level (which is also the
-  // level that computes the bending energy).
-  if (r.bending_energy.has_value() || !r.segments.empty()) {
-    json segs = json::array();
-    for (const SegmentReport& s : r.segments) {
-      segs.push_back({{"linearized_energy", s.linearized_energy},
-                      {"bending_energy", s.bending_energy},
-                      {"curvature_variation_energy", s.curvature_variation_energy},
-                      {"length", s.length},
-                      {"regular", s.regular},
-                      {"min_relative_speed", s.min_relative_speed},
-                      {"has_loop", s.has_loop},
-                      {"has_cusp", s.has_cusp},
-                      {"has_fold", s.has_fold}});
-    }
-    j["segment_reports"] = std::move(segs);
-    json xs = json::array();
-    for (const Intersection& x : r.intersections) {
-      xs.push_back({{"segment_a", x.segment_a},
-                    {"segment_b", x.segment_b},
-                    {"u_a", x.u_a},
-                    {"u_b", x.u_b},
-                    {"point", point_json(x.point)}});
-    }
-    j["intersections"] = std::move(xs);
-  }
-  return j;
+// ---------------------------------------------------------------- reading a result back
+
+namespace {
+
+/// "path.key" ("key" at the top).
+std::string member_path(const std::string& path, std::string_view key) {
+  return path.empty() ? std::string(key) : path + "." + std::string(key);
 }
 
-json to_json(const FitResult& r) {
-  json points = json::array();
-  for (const Point& p : r.points) points.push_back(point_json(p));
-  json tangents = json::array();
-  for (const Vec2& t : r.tangents) tangents.push_back(point_json(t));
-  json segments = json::array();
-  for (const Segment& s : r.spline.segments) {
-    json bez = json::array();
-    for (const Point& p : s.bezier.p) bez.push_back(point_json(p));
-    segments.push_back({{"bezier", std::move(bez)}, {"t0", s.t0}, {"t1", s.t1}, {"span", s.span}});
-  }
-  json j = {{"method", r.method},
-            {"closed", r.closed},
-            {"options", r.options.is_null() ? json::object() : r.options},
-            {"points", std::move(points)},
-            {"knots", r.knots},
-            {"tangents", std::move(tangents)},
-            {"segments", std::move(segments)}};
-  if (r.report) j["report"] = to_json(*r.report);
-  j["method_report"] = r.method_report.is_null() ? json::object() : r.method_report;
-  return j;
+[[noreturn]] void bad_field(const std::string& path, std::string_view expected, const json& got,
+                            std::optional<std::size_t> index) {
+  parse_fail(path + ": expected " + std::string(expected) + ", got " + preview(got), index);
 }
 
-std::string write_json(const FitResult& result, int indent) {
-  // Replace invalid UTF-8 rather than throwing (method names and reports are library-made).
-  return to_json(result).dump(indent, ' ', false, json::error_handler_t::replace);
+double read_number(const json& v, const std::string& path, std::optional<std::size_t> index) {
+  if (!v.is_number()) bad_field(path, "a number", v, index);
+  return v.get<double>();
+}
+
+std::size_t read_size(const json& v, const std::string& path, std::optional<std::size_t> index) {
+  if (!v.is_number_integer() || v < 0) bad_field(path, "a non-negative integer", v, index);
+  return v.get<std::size_t>();
+}
+
+bool read_bool(const json& v, const std::string& path, std::optional<std::size_t> index) {
+  if (!v.is_boolean()) bad_field(path, "true or false", v, index);
+  return v.get<bool>();
+}
+
+Vec2 read_pair(const json& v, const std::string& path, std::optional<std::size_t> index) {
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number()) {
+    bad_field(path, "[x, y] with two numbers", v, index);
+  }
+  return {v[0].get<double>(), v[1].get<double>()};
+}
+
+/// Calls read(element, path "name[i]", index) for every element of an array; `index` is the
+/// position in the first array of the path, i unless an outer array already set it.
+template <class Read>
+void read_array(const json& v, const std::string& path, std::optional<std::size_t> index,
+                Read read) {
+  if (!v.is_array()) bad_field(path, "an array", v, index);
+  for (std::size_t i = 0; i < v.size(); ++i) read(v[i], indexed(path, i), index ? index : i);
+}
+
+/// The members of one object of a result: each is read once by name, and what is left at the
+/// end is an unknown field (a typo, or not a result).
+class ObjectReader {
+ public:
+  ObjectReader(const json& v, std::string path, std::optional<std::size_t> index)
+      : v_(v), path_(std::move(path)), index_(index) {
+    if (!v.is_object()) bad_field(path_.empty() ? "result" : path_, "an object", v, index_);
+  }
+
+  const std::optional<std::size_t>& index() const { return index_; }
+  std::string path(std::string_view key) const { return member_path(path_, key); }
+
+  /// The member `key`, or nullptr when absent.
+  const json* find(std::string_view key) {
+    const auto it = v_.find(key);
+    if (it == v_.end()) return nullptr;
+    read_.push_back(key);
+    return &*it;
+  }
+  const json& at(std::string_view key) {
+    const json* v = find(key);
+    if (v == nullptr) parse_fail("missing field '" + path(key) + "'", index_);
+    return *v;
+  }
+
+  double number(std::string_view key) { return read_number(at(key), path(key), index_); }
+  std::optional<double> optional_number(std::string_view key) {
+    const json& v = at(key);
+    return v.is_null() ? std::nullopt : std::optional<double>(read_number(v, path(key), index_));
+  }
+  bool boolean(std::string_view key) { return read_bool(at(key), path(key), index_); }
+  std::size_t size(std::string_view key) { return read_size(at(key), path(key), index_); }
+  Vec2 pair(std::string_view key) { return read_pair(at(key), path(key), index_); }
+
+  /// Every member has been read.
+  void done() const {
+    if (read_.size() == v_.size()) return;
+    for (auto it = v_.begin(); it != v_.end(); ++it) {
+      if (std::find(read_.begin(), read_.end(), it.key()) == read_.end()) {
+        parse_fail("unknown field '" + path(it.key()) + "'", index_);
+      }
+    }
+  }
+
+ private:
+  const json& v_;
+  std::string path_;
+  std::optional<std::size_t> index_;
+  std::vector<std::string_view> read_;
+};
+
+Report read_report(const json& v) {
+  ObjectReader o(v, "report", std::nullopt);
+  Report r;
+  r.bending_energy = o.optional_number("bending_energy");
+  r.curvature_variation_energy = o.optional_number("curvature_variation_energy");
+  r.energy_singular = o.boolean("energy_singular");
+  if (const json* xs = o.find("intersections")) {
+    read_array(*xs, o.path("intersections"), std::nullopt,
+               [&](const json& x, const std::string& path, std::optional<std::size_t> index) {
+                 ObjectReader e(x, path, index);
+                 Intersection& out = r.intersections.emplace_back();
+                 out.point = e.pair("point");
+                 out.segment_a = e.size("segment_a");
+                 out.segment_b = e.size("segment_b");
+                 out.u_a = e.number("u_a");
+                 out.u_b = e.number("u_b");
+                 e.done();
+               });
+  }
+  r.length = o.optional_number("length");
+  r.linearized_energy = o.number("linearized_energy");
+  r.max_curvature_jump = o.number("max_curvature_jump");
+  r.max_interpolation_residual = o.number("max_interpolation_residual");
+  r.max_tangent_angle_jump_deg = o.number("max_tangent_angle_jump_deg");
+  r.min_relative_speed = o.number("min_relative_speed");
+  r.regular = o.boolean("regular");
+  if (const json* segments = o.find("segment_reports")) {
+    read_array(*segments, o.path("segment_reports"), std::nullopt,
+               [&](const json& x, const std::string& path, std::optional<std::size_t> index) {
+                 ObjectReader e(x, path, index);
+                 SegmentReport& out = r.segments.emplace_back();
+                 out.bending_energy = e.number("bending_energy");
+                 out.curvature_variation_energy = e.number("curvature_variation_energy");
+                 out.has_cusp = e.boolean("has_cusp");
+                 out.has_fold = e.boolean("has_fold");
+                 out.has_loop = e.boolean("has_loop");
+                 out.length = e.number("length");
+                 out.linearized_energy = e.number("linearized_energy");
+                 out.min_relative_speed = e.number("min_relative_speed");
+                 out.regular = e.boolean("regular");
+                 e.done();
+               });
+  }
+  o.done();
+  return r;
+}
+
+SolverReport read_solver(const json& v, const std::string& path) {
+  ObjectReader o(v, path, std::nullopt);
+  SolverReport r;
+  read_array(o.at("active"), o.path("active"), std::nullopt,
+             [&](const json& x, const std::string& p, std::optional<std::size_t> index) {
+               r.active.push_back(read_size(x, p, index));
+             });
+  const json& iterations = o.at("iterations");
+  if (!iterations.is_number_integer() || iterations < 0 ||
+      iterations > std::numeric_limits<int>::max()) {
+    bad_field(o.path("iterations"), "a non-negative integer", iterations, std::nullopt);
+  }
+  r.iterations = iterations.get<int>();
+  r.residual = o.number("residual");
+  const json& status = o.at("status");
+  const auto expected_status =
+      "\"converged\", \"conditioning_limit\", \"iteration_limit\" or \"stalled\"";
+  if (!status.is_string()) bad_field(o.path("status"), expected_status, status, std::nullopt);
+  try {
+    r.status = parse_solver_status(status.get_ref<const std::string&>());
+  } catch (const Error&) {
+    bad_field(o.path("status"), expected_status, status, std::nullopt);
+  }
+  r.tolerance = o.number("tolerance");
+  o.done();
+  return r;
+}
+
+}  // namespace
+
+FitResult read_fit_result(std::string_view text) {
+  return fit_result_from_json(parse_document(text));
+}
+
+FitResult fit_result_from_json(const json& document) {
+  ObjectReader o(document, "", std::nullopt);
+  FitResult r;
+  r.closed = o.boolean("closed");
+  read_array(o.at("knots"), "knots", std::nullopt,
+             [&](const json& v, const std::string& path, std::optional<std::size_t> index) {
+               r.knots.push_back(read_number(v, path, index));
+             });
+  const json& method = o.at("method");
+  if (!method.is_string()) bad_field("method", "a method name string", method, std::nullopt);
+  r.method = method.get<std::string>();
+  const json& method_report = o.at("method_report");
+  if (!method_report.is_object())
+    bad_field("method_report", "an object", method_report, std::nullopt);
+  r.method_report = method_report;
+  if (const auto solver = method_report.find("solver"); solver != method_report.end()) {
+    r.solver = read_solver(*solver, "method_report.solver");
+    r.method_report.erase("solver");
+  }
+  const json& options = o.at("options");
+  if (!options.is_object()) bad_field("options", "an object", options, std::nullopt);
+  r.options = options;
+  read_array(o.at("points"), "points", std::nullopt,
+             [&](const json& v, const std::string& path, std::optional<std::size_t> index) {
+               r.points.push_back(read_pair(v, path, index));
+             });
+  if (const json* report = o.find("report")) r.report = read_report(*report);
+  read_array(o.at("segments"), "segments", std::nullopt,
+             [&](const json& v, const std::string& path, std::optional<std::size_t> index) {
+               ObjectReader e(v, path, index);
+               Segment& s = r.spline.segments.emplace_back();
+               const json& bezier = e.at("bezier");
+               if (!bezier.is_array() || bezier.size() != 4) {
+                 bad_field(e.path("bezier"), "4 control points [x, y]", bezier, index);
+               }
+               for (std::size_t k = 0; k < 4; ++k) {
+                 s.bezier.p[k] = read_pair(bezier[k], indexed(e.path("bezier"), k), index);
+               }
+               s.span = e.size("span");
+               s.t0 = e.number("t0");
+               s.t1 = e.number("t1");
+               e.done();
+             });
+  r.spline.closed = r.closed;
+  read_array(o.at("tangents"), "tangents", std::nullopt,
+             [&](const json& v, const std::string& path, std::optional<std::size_t> index) {
+               r.tangents.push_back(read_pair(v, path, index));
+             });
+  o.done();
+  return r;
 }
 
 json error_to_json(const Error& error) {
@@ -443,6 +614,31 @@ std::string_view point_kind_name(PointKind kind) {
       return "corner";
   }
   return "smooth";
+}
+
+std::string_view solver_status_name(SolverStatus status) {
+  switch (status) {
+    case SolverStatus::kConverged:
+      return "converged";
+    case SolverStatus::kConditioningLimit:
+      return "conditioning_limit";
+    case SolverStatus::kIterationLimit:
+      return "iteration_limit";
+    case SolverStatus::kStalled:
+      return "stalled";
+  }
+  return "converged";
+}
+
+SolverStatus parse_solver_status(std::string_view text) {
+  if (text == "converged") return SolverStatus::kConverged;
+  if (text == "conditioning_limit") return SolverStatus::kConditioningLimit;
+  if (text == "iteration_limit") return SolverStatus::kIterationLimit;
+  if (text == "stalled") return SolverStatus::kStalled;
+  throw Error(ErrorCode::kInvalidArgument,
+              "solver status must be converged, conditioning_limit, iteration_limit or stalled, "
+              "got '" +
+                  std::string(text) + "'");
 }
 
 std::string summary_table(const FitResult& result) {

@@ -1,11 +1,18 @@
 #include "fairspline/io/json.hpp"
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "detail/number_format.hpp"
 #include "test_util.hpp"
 
 #include "fairspline/error.hpp"
@@ -339,6 +346,188 @@ TEST(JsonOutput, DoublesRoundTripExactly) {
     EXPECT_EQ(j["report"]["linearized_energy"].get<double>(), r.report->linearized_energy);
     EXPECT_EQ(j["report"]["bending_energy"].get<double>(), *r.report->bending_energy);
   }
+}
+
+// ------------------------------------------------------------------ numbers
+
+std::string formatted(double v) {
+  char buf[detail::kJsonNumberChars];
+  return std::string(buf, detail::format_json_number(buf, v));
+}
+
+/// The doubles of the number test: every binade and sign through random bit patterns, the
+/// subnormals, integers up to and past 2^53, powers of two and ten and their neighbours, the
+/// edges of fixed notation (1e-4, 1e15), short decimals, and the special values.
+std::vector<double> adversarial_doubles() {
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           1.0,
+                           -1.0,
+                           0.1,
+                           0.5,
+                           1e-7,
+                           1e300,
+                           -1e-300,
+                           std::numeric_limits<double>::max(),
+                           std::numeric_limits<double>::lowest(),
+                           std::numeric_limits<double>::min(),
+                           std::numeric_limits<double>::denorm_min(),
+                           -std::numeric_limits<double>::denorm_min(),
+                           std::numeric_limits<double>::epsilon(),
+                           9007199254740992.0,  // 2^53
+                           9007199254740993.0,
+                           123456789012345.0,
+                           1234567890123456.0,
+                           190.18124141243771};  // Grisu2's digits differ from to_chars's here
+  const auto around = [&](double x) {
+    for (double y : {x, -x}) {
+      v.push_back(y);
+      v.push_back(std::nextafter(y, 0.0));
+      v.push_back(std::nextafter(y, std::numeric_limits<double>::infinity()));
+    }
+  };
+  for (int e = -1074; e <= 1023; ++e) around(std::ldexp(1.0, e));
+  for (int e = -323; e <= 308; ++e) around(std::pow(10.0, e));
+  for (double x :
+       {1e-5, 1e-4, 1e15, 1e16, 1e17, 1e21, 1e22, 1e23, 5e-324, 1.7976931348623157e308}) {
+    around(x);
+  }
+  std::mt19937_64 rng(20240613);
+  for (int i = 0; i < 40000; ++i) {  // any bit pattern: all exponents, both signs
+    const double x = std::bit_cast<double>(rng());
+    if (std::isfinite(x)) v.push_back(x);
+  }
+  for (int i = 0; i < 10000; ++i) {  // subnormals
+    v.push_back(std::bit_cast<double>(rng() & 0x800FFFFFFFFFFFFFu));
+  }
+  for (int i = 0; i < 10000; ++i) {  // integers of every size
+    v.push_back(static_cast<double>(rng() >> (rng() % 64)));
+  }
+  std::uniform_real_distribution<double> coordinate(-1000.0, 1000.0);
+  for (int i = 0; i < 20000; ++i) v.push_back(coordinate(rng));  // what fits write
+  for (int i = 0; i < 10000; ++i) {                              // short decimals k / 10^j
+    v.push_back(static_cast<double>(rng() % 100000) / std::pow(10.0, static_cast<int>(rng() % 12)));
+  }
+  return v;
+}
+
+TEST(JsonNumbers, SameTextAsNlohmannDump) {
+  const std::vector<double> values = adversarial_doubles();
+  ASSERT_GT(values.size(), 100000u);
+  std::size_t mismatches = 0;
+  for (const double x : values) {
+    const std::string want = json(x).dump();
+    const std::string got = formatted(x);
+    if (got != want && ++mismatches <= 10) {
+      ADD_FAILURE() << std::hexfloat << x << ": " << got << " != dump() " << want;
+    }
+    ASSERT_LE(got.size(), detail::kJsonNumberChars);
+  }
+  EXPECT_EQ(mismatches, 0u);
+}
+
+TEST(JsonNumbers, Layout) {
+  EXPECT_EQ(formatted(0.0), "0.0");
+  EXPECT_EQ(formatted(-0.0), "-0.0");
+  EXPECT_EQ(formatted(1.0), "1.0");
+  EXPECT_EQ(formatted(-2.5), "-2.5");
+  EXPECT_EQ(formatted(1e-4), "0.0001");
+  EXPECT_EQ(formatted(1e-5), "1e-05");
+  EXPECT_EQ(formatted(1e-7), "1e-07");
+  EXPECT_EQ(formatted(123456789012345.0), "123456789012345.0");
+  EXPECT_EQ(formatted(1e15), "1e+15");
+  EXPECT_EQ(formatted(1e300), "1e+300");
+  EXPECT_EQ(formatted(1.5e-300), "1.5e-300");
+  EXPECT_EQ(formatted(5e-324), "5e-324");
+  EXPECT_EQ(formatted(9007199254740993.0), "9.007199254740992e+15");
+  // Not std::to_chars's shortest "190.1812414124377": Grisu2, as dump().
+  EXPECT_EQ(formatted(190.18124141243771), "190.18124141243771");
+  EXPECT_EQ(formatted(std::numeric_limits<double>::quiet_NaN()), "null");
+  EXPECT_EQ(formatted(-std::numeric_limits<double>::infinity()), "null");
+}
+
+// ------------------------------------------------------------------ the writer
+
+TEST(JsonWriter, SameBytesAsTheTreeDumped) {
+  FitInput in;
+  in.points = kExample;
+  for (ReportLevel level : {ReportLevel::kNone, ReportLevel::kBasic, ReportLevel::kFull}) {
+    const FitResult r = fit("li-combined", in, json::object(), level);
+    const std::string text = write_json(r);
+    EXPECT_EQ(json::parse(text).dump(), text);  // keys in order, numbers as dump()
+    for (int indent : {0, 1, 2, 4}) {
+      EXPECT_EQ(write_json(r, indent), json::parse(text).dump(indent)) << indent;
+    }
+    EXPECT_EQ(to_json(r), json::parse(text));
+    std::string appended = "prefix";
+    write_json(r, appended);
+    EXPECT_EQ(appended, "prefix" + text);
+  }
+}
+
+TEST(JsonWriter, ExtraMembersGoInKeyOrder) {
+  FitInput in;
+  in.points = kExample;
+  const FitResult r = fit("jaklic-zagar", in, json::object(), ReportLevel::kNone);
+  std::string text;
+  write_json(r, text, -1, json{{"line", 12}, {"a", "first"}, {"zz", nullptr}});
+  json expected = to_json(r);
+  expected["line"] = 12;
+  expected["a"] = "first";
+  expected["zz"] = nullptr;
+  EXPECT_EQ(text, expected.dump());
+  EXPECT_NE(text.find(R"("knots":[)"), std::string::npos);
+  EXPECT_LT(text.find(R"("knots":)"), text.find(R"("line":12,"method":)"));
+  std::string pretty;
+  write_json(r, pretty, 2, json{{"line", 12}, {"a", "first"}, {"zz", nullptr}});
+  EXPECT_EQ(pretty, expected.dump(2));
+  std::string ignored;
+  expect_error(ErrorCode::kInvalidArgument,
+               [&] {
+                 write_json(r, ignored, -1, json{{"method", "x"}});
+               },
+               {"'method'"});
+  expect_error(ErrorCode::kInvalidArgument, [&] { write_json(r, ignored, -1, json::array()); });
+}
+
+TEST(JsonWriter, StringsAndOddValuesAsDump) {
+  FitResult r;
+  r.method = "quote \" backslash \\ tab \t \x01 caf\xc3\xa9 bad \xff end";
+  r.options = {{"s", "\n"}, {"i", -3},      {"u", 7u},
+               {"f", 2.0},  {"n", nullptr}, {"e", json::object()}};
+  r.method_report = nullptr;  // written as {}
+  const std::string text = write_json(r);
+  json expected = {{"closed", false},           {"knots", json::array()},
+                   {"method", r.method},        {"method_report", json::object()},
+                   {"options", r.options},      {"points", json::array()},
+                   {"segments", json::array()}, {"tangents", json::array()}};
+  EXPECT_EQ(text, expected.dump(-1, ' ', false, json::error_handler_t::replace));
+  EXPECT_EQ(write_json(r, 3), expected.dump(3, ' ', false, json::error_handler_t::replace));
+}
+
+TEST(JsonWriter, SolverGoesInsideMethodReportInKeyOrder) {
+  FitResult r;
+  r.method = "m";
+  r.method_report = {{"aa", 1}, {"status", "mine"}, {"zz", {1.5, 2.5}}};
+  EXPECT_EQ(to_json(r)["method_report"], r.method_report);  // no solver: as the method wrote it
+  r.solver = SolverReport{SolverStatus::kConditioningLimit, 17, 1.25e-13, 1e-14, {2, 5}};
+  const json j = to_json(r);
+  EXPECT_EQ(j["method_report"]["solver"], (json{{"status", "conditioning_limit"},
+                                                {"iterations", 17},
+                                                {"residual", 1.25e-13},
+                                                {"tolerance", 1e-14},
+                                                {"active", {2, 5}}}));
+  EXPECT_EQ(j["method_report"]["aa"], 1);
+  EXPECT_EQ(j["method_report"]["status"], "mine");
+  EXPECT_EQ(json::parse(write_json(r)).dump(), write_json(r));
+  // A "solver" of the method's own gives way to the result's.
+  r.method_report["solver"] = "stale";
+  EXPECT_EQ(to_json(r), j);
+  for (SolverStatus s : {SolverStatus::kConverged, SolverStatus::kConditioningLimit,
+                         SolverStatus::kIterationLimit, SolverStatus::kStalled}) {
+    EXPECT_EQ(parse_solver_status(solver_status_name(s)), s);
+  }
+  expect_error(ErrorCode::kInvalidArgument, [] { parse_solver_status("Converged"); });
 }
 
 TEST(JsonOutput, ErrorToJson) {

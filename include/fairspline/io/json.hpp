@@ -18,13 +18,21 @@ struct ParsedInput {
   FitInput input;
   std::optional<std::string> method;                  ///< "method" field, if given
   nlohmann::json options = nlohmann::json::object();  ///< "options" field (+ "lambdas")
+  std::optional<double> accuracy;                     ///< "accuracy" (FitOptions::accuracy)
+  std::optional<bool> best_effort;                    ///< "best_effort" (FitOptions::best_effort)
+  /// FitOptions at `level` with the request's accuracy and best_effort where it gives them.
+  FitOptions fit_options(ReportLevel level) const {
+    return {.level = level,
+            .accuracy = accuracy.value_or(FitOptions::kDefaultAccuracy),
+            .best_effort = best_effort.value_or(false)};
+  }
 };
 
 /// Parses a fit request:
 ///   {"points": [[x,y],...], "closed": bool, "tangents": [[x,y] or null,...],
 ///    "kinds": ["smooth"|"clamped"|"corner",...], "method": str, "options": {...},
 ///    "alpha": num, "knots": [...], "start_tangent": [x,y], "end_tangent": [x,y],
-///    "lambdas": [...]}
+///    "lambdas": [...], "accuracy": num, "best_effort": bool}
 /// Only "points" is required; a bare array of points is accepted as {"points": [...]}.
 /// "lambdas" is a method option given at top level for convenience: it is moved into
 /// `options` (giving it in both places is an error). Keys starting with '_' or '$' are
@@ -39,13 +47,55 @@ ParsedInput input_from_json(const nlohmann::json& document);
 /// The result as JSON:
 ///   {"method","closed","options","points","knots","tangents",
 ///    "segments": [{"bezier": [[x,y]x4], "t0", "t1", "span"}...],
-///    "report": {...} (only when the result has one), "method_report": {...}}
+///    "report": {...} (only when the result has one),
+///    "method_report": {..., "solver": {"status", "iterations", "residual", "tolerance",
+///                                      "active": [...]} (only when the result has one)}}
 /// Report fields not computed are null. Doubles round-trip exactly through dump()/parse().
+/// (The document write_json writes, parsed.)
 nlohmann::json to_json(const FitResult& result);
-/// to_json(result).dump(indent) (indent < 0: compact, one line).
-std::string write_json(const FitResult& result, int indent = -1);
 /// The report part of to_json.
 nlohmann::json to_json(const Report& report);
+
+/// Appends the text of to_json(result).dump(indent) to `out` (indent < 0: compact, one line),
+/// written straight from the result, without a JSON tree: keys in order, numbers as dump()
+/// writes them. The one serializer of a FitResult: the CLI's fit and batch, the web server,
+/// Python's to_json, dicts and pickles all go through it. `extra` (an object, or null for none)
+/// adds members among the result's in key order, e.g. the batch record's {"line": N}; a key the
+/// result also writes throws Error(kInvalidArgument) (with `out` partly written).
+void write_json(const FitResult& result, std::string& out, int indent = -1,
+                const nlohmann::json& extra = nullptr);
+/// The same text as a string.
+std::string write_json(const FitResult& result, int indent = -1);
+
+/// The SAX interface of nlohmann::json (json::sax_parse drives one).
+using JsonSax = nlohmann::json_sax<nlohmann::json>;
+/// Gives `handler` the events json::sax_parse would give for the text of write_json, without
+/// writing or parsing text (number_float's string argument is empty; return values are
+/// ignored): to build another representation of the document, e.g. Python objects, from the
+/// one field list.
+void write_json(const FitResult& result, JsonSax& handler);
+/// The same for the "report" member alone.
+void write_json(const Report& report, JsonSax& handler);
+/// The same for the "method_report" member alone (the method's report with "solver" merged in).
+void write_method_report(const FitResult& result, JsonSax& handler);
+
+/// Reads what write_json wrote back into an equal FitResult: every field, doubles bit for bit
+/// ("solver" inside "method_report" goes to FitResult::solver; the spline's `closed` is the
+/// result's). Throws Error(kParseError) for invalid JSON (line and column, as
+/// parse_json_input) or a missing, unknown or malformed field, naming it
+/// ("report.segment_reports[2].length: expected a number, got "x""; index = the position in
+/// the first array of that path: the point, the segment, the segment report), or kNonFinite
+/// for a number too large for double.
+FitResult read_fit_result(std::string_view text);
+/// Same, from an already parsed document (a name of its own: a string converts to both).
+FitResult fit_result_from_json(const nlohmann::json& document);
+
+/// "converged" | "conditioning_limit" | "iteration_limit" | "stalled" (the JSON name of a
+/// SolverStatus).
+std::string_view solver_status_name(SolverStatus status);
+/// Inverse of solver_status_name; anything else throws kInvalidArgument.
+SolverStatus parse_solver_status(std::string_view text);
+
 /// {"error": {"code": "repeated_point", "message": "...", "index": 3 or null}}
 nlohmann::json error_to_json(const Error& error);
 
