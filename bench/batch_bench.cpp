@@ -101,7 +101,7 @@ double time_fits(Way way, unsigned threads, double& free_seconds) {
   }
   BatchOptions options;
   options.threads = threads;
-  options.level = fairspline::ReportLevel::kNone;
+  options.fit.level = fairspline::ReportLevel::kNone;
   const auto t0 = Clock::now();
   std::vector<BatchOutcome> out = fairspline::fit_many(jobs(), options);
   const auto t1 = Clock::now();

@@ -266,118 +266,78 @@ py::array_t<double> points_array(const std::vector<Vec2>& points) {
   return out;
 }
 
-/// The report as the dict io::to_json(Report) describes, built directly (twice as fast as through
-/// JSON, which matters when reading the reports of many curves). The tests check that it equals
-/// the CLI's JSON report key for key.
-py::dict report_to_python(const fairspline::Report& r) {
-  auto opt = [](const std::optional<double>& v) {
-    return v ? py::object(py::float_(*v)) : py::object(py::none());
-  };
-  py::dict d;
-  d["bending_energy"] = opt(r.bending_energy);
-  d["linearized_energy"] = r.linearized_energy;
-  d["curvature_variation_energy"] = opt(r.curvature_variation_energy);
-  d["length"] = opt(r.length);
-  d["regular"] = r.regular;
-  d["max_tangent_angle_jump_deg"] = r.max_tangent_angle_jump_deg;
-  d["max_curvature_jump"] = r.max_curvature_jump;
-  d["min_relative_speed"] = r.min_relative_speed;
-  d["max_interpolation_residual"] = r.max_interpolation_residual;
-  d["energy_singular"] = r.energy_singular;
-  if (r.bending_energy.has_value() || !r.segments.empty()) {
-    py::list segments;
-    for (const fairspline::SegmentReport& s : r.segments) {
-      py::dict e;
-      e["linearized_energy"] = s.linearized_energy;
-      e["bending_energy"] = s.bending_energy;
-      e["curvature_variation_energy"] = s.curvature_variation_energy;
-      e["length"] = s.length;
-      e["regular"] = s.regular;
-      e["min_relative_speed"] = s.min_relative_speed;
-      e["has_loop"] = s.has_loop;
-      e["has_cusp"] = s.has_cusp;
-      e["has_fold"] = s.has_fold;
-      segments.append(std::move(e));
-    }
-    d["segment_reports"] = std::move(segments);
-    py::list intersections;
-    for (const fairspline::Intersection& x : r.intersections) {
-      py::dict e;
-      e["segment_a"] = x.segment_a;
-      e["segment_b"] = x.segment_b;
-      e["u_a"] = x.u_a;
-      e["u_b"] = x.u_b;
-      py::list point;
-      point.append(x.point.x);
-      point.append(x.point.y);
-      e["point"] = std::move(point);
-      intersections.append(std::move(e));
-    }
-    d["intersections"] = std::move(intersections);
+/// Builds Python objects (dict, list, float, int, bool, str, None) from the events of the JSON
+/// writer (io::write_json), so that the dicts have the JSON output's fields and values by
+/// construction: the writer holds the one list of fields. As fast as building them by hand
+/// (no text, no JSON tree in between), which matters when reading the reports of many curves.
+class PythonBuilder : public fairspline::io::JsonSax {
+ public:
+  /// The value built (after the events of one document).
+  py::object take() { return std::move(root_); }
+
+  bool null() override { return add(py::none()); }
+  bool boolean(bool v) override { return add(py::bool_(v)); }
+  bool number_integer(number_integer_t v) override { return add(py::int_(v)); }
+  bool number_unsigned(number_unsigned_t v) override { return add(py::int_(v)); }
+  bool number_float(number_float_t v, const string_t&) override { return add(py::float_(v)); }
+  bool string(string_t& v) override { return add(py::str(v)); }
+  bool binary(binary_t&) override { return add(py::none()); }
+  bool start_object(std::size_t) override { return open(py::dict(), true); }
+  bool key(string_t& k) override {
+    key_ = py::str(k);
+    return true;
   }
-  return d;
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(py::list(), false); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t, const std::string&, const json::exception&) override {
+    return false;
+  }
+
+ private:
+  struct Open {
+    py::object container;
+    bool is_dict;
+  };
+
+  bool add(py::object value) {
+    if (stack_.empty()) {
+      root_ = std::move(value);
+    } else {
+      PyObject* container = stack_.back().container.ptr();
+      const int status = stack_.back().is_dict ? PyDict_SetItem(container, key_.ptr(), value.ptr())
+                                               : PyList_Append(container, value.ptr());
+      if (status != 0) throw py::error_already_set();
+    }
+    return true;
+  }
+  bool open(py::object container, bool is_dict) {
+    add(container);
+    stack_.push_back({std::move(container), is_dict});
+    return true;
+  }
+  bool close() {
+    stack_.pop_back();
+    return true;
+  }
+
+  py::object root_ = py::none();
+  py::str key_;
+  std::vector<Open> stack_;
+};
+
+/// The JSON "report" as a dict.
+py::object report_to_python(const fairspline::Report& r) {
+  PythonBuilder builder;
+  fairspline::io::write_json(r, builder);
+  return builder.take();
 }
 
-/// Parses write_json output back into a FitResult (the inverse of io::to_json, used for
-/// pickling: to_json of the result is identical to the original's).
-FitResult result_from_json(const json& j) {
-  auto vec = [](const json& v) { return Vec2{v.at(0).get<double>(), v.at(1).get<double>()}; };
-  auto opt = [](const json& v) {
-    return v.is_null() ? std::nullopt : std::optional<double>(v.get<double>());
-  };
-  FitResult r;
-  r.method = j.at("method").get<std::string>();
-  r.closed = j.at("closed").get<bool>();
-  r.options = j.at("options");
-  for (const json& p : j.at("points")) r.points.push_back(vec(p));
-  r.knots = j.at("knots").get<std::vector<double>>();
-  for (const json& t : j.at("tangents")) r.tangents.push_back(vec(t));
-  r.spline.closed = r.closed;
-  for (const json& s : j.at("segments")) {
-    fairspline::Segment seg;
-    for (std::size_t k = 0; k < 4; ++k) seg.bezier.p[k] = vec(s.at("bezier").at(k));
-    seg.t0 = s.at("t0").get<double>();
-    seg.t1 = s.at("t1").get<double>();
-    seg.span = s.at("span").get<std::size_t>();
-    r.spline.segments.push_back(seg);
-  }
-  if (j.contains("report")) {
-    const json& rj = j.at("report");
-    fairspline::Report rep;
-    rep.bending_energy = opt(rj.at("bending_energy"));
-    rep.linearized_energy = rj.at("linearized_energy").get<double>();
-    rep.curvature_variation_energy = opt(rj.at("curvature_variation_energy"));
-    rep.length = opt(rj.at("length"));
-    rep.regular = rj.at("regular").get<bool>();
-    rep.max_tangent_angle_jump_deg = rj.at("max_tangent_angle_jump_deg").get<double>();
-    rep.max_curvature_jump = rj.at("max_curvature_jump").get<double>();
-    rep.min_relative_speed = rj.at("min_relative_speed").get<double>();
-    rep.max_interpolation_residual = rj.at("max_interpolation_residual").get<double>();
-    rep.energy_singular = rj.at("energy_singular").get<bool>();
-    if (rj.contains("segment_reports")) {
-      for (const json& s : rj.at("segment_reports")) {
-        fairspline::SegmentReport sr;
-        sr.linearized_energy = s.at("linearized_energy").get<double>();
-        sr.bending_energy = s.at("bending_energy").get<double>();
-        sr.curvature_variation_energy = s.at("curvature_variation_energy").get<double>();
-        sr.length = s.at("length").get<double>();
-        sr.regular = s.at("regular").get<bool>();
-        sr.min_relative_speed = s.at("min_relative_speed").get<double>();
-        sr.has_loop = s.at("has_loop").get<bool>();
-        sr.has_cusp = s.at("has_cusp").get<bool>();
-        sr.has_fold = s.at("has_fold").get<bool>();
-        rep.segments.push_back(sr);
-      }
-      for (const json& x : rj.at("intersections")) {
-        rep.intersections.push_back(
-            {x.at("segment_a").get<std::size_t>(), x.at("segment_b").get<std::size_t>(),
-             x.at("u_a").get<double>(), x.at("u_b").get<double>(), vec(x.at("point"))});
-      }
-    }
-    r.report = std::move(rep);
-  }
-  r.method_report = j.at("method_report");
-  return r;
+/// The JSON "method_report" as a dict (with "solver" when the method has one).
+py::object method_report_to_python(const FitResult& r) {
+  PythonBuilder builder;
+  fairspline::io::write_method_report(r, builder);
+  return builder.take();
 }
 
 // ---------------------------------------------------------------- evaluation
@@ -443,26 +403,31 @@ py::object evaluate(const FitResult& r, py::handle t_obj, Quantity what, int ord
 FitResult py_fit(py::handle points, const std::string& method, bool closed,
                  std::optional<double> alpha, const py::object& start_tangent,
                  const py::object& end_tangent, const py::object& tangents, const py::object& kinds,
-                 const py::object& knots, const std::string& report, const py::object& options,
-                 const py::kwargs& kwargs) {
+                 const py::object& knots, const std::string& report, double accuracy,
+                 bool best_effort, const py::object& options, const py::kwargs& kwargs) {
   const FitInput in =
       make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds, knots);
   const json opts = options_json(options, kwargs);
-  const fairspline::ReportLevel level = fairspline::io::parse_report_level(report);
+  const fairspline::FitOptions fit_options{.level = fairspline::io::parse_report_level(report),
+                                           .accuracy = accuracy,
+                                           .best_effort = best_effort};
   py::gil_scoped_release release;
-  return fairspline::fit(method, in, opts, level);
+  return fairspline::fit(method, in, opts, fit_options);
 }
 
 py::list py_fit_many(py::iterable curves, const std::string& method, bool closed,
                      std::optional<double> alpha, const py::object& start_tangent,
                      const py::object& end_tangent, std::optional<long long> threads,
-                     const std::string& report, const std::string& errors,
-                     const py::object& options, const py::kwargs& kwargs) {
+                     const std::string& report, double accuracy, bool best_effort,
+                     const std::string& errors, const py::object& options,
+                     const py::kwargs& kwargs) {
   if (errors != "raise" && errors != "return") {
     invalid("errors must be \"raise\" or \"return\", got \"" + errors + "\"");
   }
   fairspline::BatchOptions batch;
-  batch.level = fairspline::io::parse_report_level(report);
+  batch.fit = {.level = fairspline::io::parse_report_level(report),
+               .accuracy = accuracy,
+               .best_effort = best_effort};
   if (threads) {
     if (*threads < 0 || *threads > 4096) invalid("threads must be None or a count in [0, 4096]");
     batch.threads = static_cast<unsigned>(*threads);
@@ -540,6 +505,10 @@ Arguments:
          indented(doc::input_knots, 17) + R"(
   report         "none" | "basic" | "full" (default). )" +
          indented(doc::report_level, 17) + "\n" + pad + indented(doc::report_levels, 17) + R"(
+  accuracy       )" +
+         indented(doc::fit_options_accuracy, 17) + R"( Default 1e-9.
+  best_effort    )" +
+         indented(doc::fit_options_best_effort, 17) + R"( Default False.
   options, **options
                  method options (a dict, merged with the keyword arguments), validated
                  against the method's schema (see methods()):
@@ -566,6 +535,8 @@ returns a list of Curve in input order. The GIL is released while the curves are
          doc::batch_threads +
          R"(. None: every core.
   report    "none" | "basic" | "full" (default); "none" is fastest.
+  accuracy, best_effort
+            as for fit().
   errors    "raise" (default): every curve is fitted, then the error of the first curve that
             failed is raised as fairspline.Error whose .curve is that curve's position in the
             list (.index is still the point within the curve) and whose message starts with
@@ -727,13 +698,13 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly(
           "report",
           [](const FitResult& r) {
-            return r.report ? py::object(report_to_python(*r.report)) : py::object(py::none());
+            return r.report ? report_to_python(*r.report) : py::object(py::none());
           },
           keep(std::string(doc::report) +
                "\nA dict equal to the JSON \"report\" (None when fitted with report=\"none\"); "
                "quantities not computed are None."))
       .def_property_readonly(
-          "method_report", [](const FitResult& r) { return to_python(r.method_report); },
+          "method_report", [](const FitResult& r) { return method_report_to_python(r); },
           "the method-specific report (dict), as in the JSON output")
       .def(
           "evaluate",
@@ -790,9 +761,14 @@ PYBIND11_MODULE(_core, m) {
                     " segments=" + std::to_string(r.spline.segments.size()) +
                     (r.closed ? " closed" : "") + ">";
            })
+      .def_static(
+          "from_json", [](std::string_view text) { return fairspline::io::read_fit_result(text); },
+          py::arg("text"),
+          "The Curve whose to_json() is `text` (any indent): every field, floats bit for bit.\n"
+          "Raises fairspline.Error (code \"parse_error\") naming a malformed or missing field.")
       .def(py::pickle([](const FitResult& r) { return py::bytes(fairspline::io::write_json(r)); },
                       [](const py::bytes& state) {
-                        return result_from_json(json::parse(state.cast<std::string>()));
+                        return fairspline::io::read_fit_result(state.cast<std::string>());
                       }));
 
   const std::string default_method(fairspline::default_method_name());
@@ -800,24 +776,20 @@ PYBIND11_MODULE(_core, m) {
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("tangents") = py::none(), py::arg("kinds") = py::none(),
-        py::arg("knots") = py::none(), py::arg("report") = "full", py::arg("options") = py::none(),
-        keep(fit_doc()));
+        py::arg("knots") = py::none(), py::arg("report") = "full",
+        py::arg("accuracy") = fairspline::FitOptions::kDefaultAccuracy,
+        py::arg("best_effort") = false, py::arg("options") = py::none(), keep(fit_doc()));
 
   m.def("fit_many", &py_fit_many, py::arg("curves"), py::arg("method") = default_method,
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
-        py::arg("threads") = py::none(), py::arg("report") = "full", py::arg("errors") = "raise",
+        py::arg("threads") = py::none(), py::arg("report") = "full",
+        py::arg("accuracy") = fairspline::FitOptions::kDefaultAccuracy,
+        py::arg("best_effort") = false, py::arg("errors") = "raise",
         py::arg("options") = py::none(), keep(fit_many_doc()));
 
   m.def(
-      "methods",
-      [] {
-        py::list out;
-        for (const auto& method : fairspline::methods()) {
-          out.append(to_python(fairspline::method_schema(method)));
-        }
-        return out;
-      },
+      "methods", [] { return to_python(fairspline::registry_schema()); },
       keep(std::string(doc::methods) +
            "\n\nPython: a list of dicts, one per method: " + doc::method_schema +
            " Option entries have \"name\", \"type\", \"default\", \"doc\" "

@@ -73,7 +73,7 @@ std::vector<BatchOutcome> fit_many(std::span<const BatchJob> jobs, const BatchOp
     try {
       const std::string_view method =
           job.method.empty() ? default_method_name() : std::string_view(job.method);
-      out.result = fit(method, job.input, job.options, options.level);
+      out.result = fit(method, job.input, job.options, options.fit);
     } catch (const Error& e) {
       out.error = e;
     } catch (const std::exception& e) {

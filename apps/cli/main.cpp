@@ -143,8 +143,8 @@ struct FitArgs {
   std::string report = "full";
   bool summary = false;
   int indent = -1;
-  double accuracy = fairspline::FitOptions::kDefaultAccuracy;
-  bool best_effort = false;
+  std::optional<double> accuracy;  ///< else the request's, else the default
+  bool best_effort = false;        ///< or the request's
   CLI::Option* alpha_opt = nullptr;
 };
 
@@ -203,9 +203,10 @@ int run_fit(const FitArgs& a) {
 
   // 3. Fit (errors here: exit 1).
   const fairspline::io::SvgOptions svg = fairspline::io::svg_options_from_json(svg_keys);
-  const fairspline::FitResult result = fairspline::fit(
-      method, in, options,
-      fairspline::FitOptions{.level = level, .accuracy = a.accuracy, .best_effort = a.best_effort});
+  fairspline::FitOptions fit_options = parsed.fit_options(level);
+  if (a.accuracy) fit_options.accuracy = *a.accuracy;
+  fit_options.best_effort = fit_options.best_effort || a.best_effort;
+  const fairspline::FitResult result = fairspline::fit(method, in, options, fit_options);
 
   // 4. Output.
   std::string text;
@@ -368,6 +369,16 @@ int run_serve(const fairspline::web::ServerOptions& options) {
   return server.run() ? kExitOk : kExitFitError;
 }
 
+/// --accuracy and --best-effort, shared by fit and batch.
+void add_fit_options(CLI::App& cmd, std::optional<double>& accuracy, bool& best_effort) {
+  cmd.add_option("--accuracy", accuracy,
+                 "Relative accuracy of the report's quadratures and searches, in (0, 1) "
+                 "(default: the request's \"accuracy\", else 1e-9)");
+  cmd.add_flag("--best-effort", best_effort,
+               "When an iterative method stops short of its tolerance, write its curve with the "
+               "solver's status instead of failing (also a request's \"best_effort\": true)");
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"fairspline: fair planar cubic Bézier splines through points.", "fairspline"};
   app.set_version_flag("--version", "fairspline 0.1.0");
@@ -407,12 +418,7 @@ int run(int argc, char** argv) {
   fit->add_option("-o,--output", fa.output, "Output file (default: standard output)");
   fit->add_option("--report", fa.report, "Report level (default: full)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
-  fit->add_option("--accuracy", fa.accuracy,
-                  "Relative accuracy of the report's quadratures and searches, in (0, 1) "
-                  "(default: 1e-9)");
-  fit->add_flag("--best-effort", fa.best_effort,
-                "When an iterative method stops short of its tolerance, write its curve with the "
-                "solver's status instead of failing");
+  add_fit_options(*fit, fa.accuracy, fa.best_effort);
   fit->add_flag("--summary", fa.summary,
                 "Print a summary table (to stdout with -o, else to stderr)");
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")
@@ -438,6 +444,7 @@ int run(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   batch->add_option("--report", bta.report, "Report level (default: basic)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
+  add_fit_options(*batch, bta.accuracy, bta.best_effort);
   batch->add_flag("--quiet", bta.quiet, "No progress line (shown only when stderr is a terminal)");
   batch->footer(
       "Exit codes: 0 every record succeeded, 1 some record failed (its error record is in the "

@@ -61,7 +61,8 @@ ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& optio
                     " (this server accepts at most " + std::to_string(options.max_points) + ")"));
     }
     const std::string method = parsed.method ? *parsed.method : std::string(default_method_name());
-    const FitResult result = fit(method, parsed.input, parsed.options, ReportLevel::kFull);
+    const FitResult result =
+        fit(method, parsed.input, parsed.options, parsed.fit_options(ReportLevel::kFull));
     return {200, io::write_json(result)};
   } catch (const Error& e) {
     return error_response(400, e);
@@ -74,8 +75,9 @@ ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& optio
 }  // namespace
 
 ApiResponse handle_methods() {
-  return {200,
-          nlohmann::json{{"default", default_method_name()}, {"methods", registry_schema()}}.dump()};
+  return {
+      200,
+      nlohmann::json{{"default", default_method_name()}, {"methods", registry_schema()}}.dump()};
 }
 
 ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {

@@ -33,7 +33,8 @@ struct BatchOutcome {
 /// How a batch runs.
 struct BatchOptions {
   unsigned threads = 0;  ///< worker threads; 0: std::thread::hardware_concurrency()
-  ReportLevel level = ReportLevel::kFull;
+  /// Report level, accuracy, best effort: the same for every job.
+  FitOptions fit{};
   /// Called with (done, total) as jobs finish (after each small chunk of jobs, and once with
   /// done == total), never concurrently with itself; may be empty. Runs on a worker thread:
   /// keep it short.
@@ -50,7 +51,7 @@ unsigned resolve_threads(unsigned requested, std::size_t work_items);
 void parallel_for(std::size_t count, unsigned threads,
                   const std::function<void(std::size_t)>& work);
 
-/// Fits every job (fit() with the job's method, options and options.level). A job that fails
+/// Fits every job (fit() with the job's method and options and options.fit). A job that fails
 /// with fairspline::Error gets it in its outcome; the others are unaffected.
 std::vector<BatchOutcome> fit_many(std::span<const BatchJob> jobs,
                                    const BatchOptions& options = {});

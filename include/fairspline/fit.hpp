@@ -131,8 +131,7 @@ struct FitOptions {
   /// Per-node and per-segment entries in method_report (false: only its O(1) summary).
   bool diagnostics = true;
   /// A solver that stops short of its tolerance (iteration cap, no admissible step) returns its
-  /// curve with that status
-  /// instead of throwing Error(kNotConverged).
+  /// curve with that status (FitResult::solver) instead of failing with code not_converged.
   bool best_effort = false;
 
   static constexpr double kDefaultAccuracy = 1e-9;

@@ -258,3 +258,43 @@ def test_unaligned_arrays_are_read_correctly():
     want = fairspline.fit(pts, "quasi-elastic")
     assert np.array_equal(got.segments, want.segments)
     assert np.array_equal(got.evaluate(unaligned_copy(want.knots)), want.evaluate(want.knots))
+
+
+KK_EXAMPLE = EXAMPLE.parent / "kozak-krajnc.csv"
+
+
+def test_from_json_is_the_inverse_of_to_json():
+    for method in ("quasi-elastic", "kozak-krajnc", "yong-cheng"):
+        kw = {"tangents_from": "jaklic-zagar"} if method == "yong-cheng" else {}
+        curve = fairspline.fit(example_points()[:7] if method == "kozak-krajnc" else
+                               example_points(), method, **kw)
+        for indent in (None, 2):
+            back = fairspline.Curve.from_json(curve.to_json(indent=indent))
+            assert back.to_json() == curve.to_json()
+            assert np.array_equal(back.evaluate(back.knots), curve.evaluate(curve.knots))
+    with pytest.raises(fairspline.Error) as e:
+        fairspline.Curve.from_json('{"method": "li-strain"}')
+    assert e.value.code == "parse_error"
+
+
+def test_best_effort_and_accuracy_reach_the_fit():
+    pts = np.loadtxt(KK_EXAMPLE, delimiter=",", skiprows=1)
+    # The G2 Newton of this example stalls: an error, or the G1 curve with the solver's status.
+    with pytest.raises(fairspline.Error) as e:
+        fairspline.fit(pts, "kozak-krajnc", g2=True)
+    assert e.value.code == "not_converged"
+    curve = fairspline.fit(pts, "kozak-krajnc", g2=True, best_effort=True)
+    solver = json.loads(curve.to_json())["method_report"]["solver"]
+    assert solver["status"] in ("stalled", "iteration_limit")
+    assert solver["residual"] > solver["tolerance"]
+    [many] = fairspline.fit_many([pts], "kozak-krajnc", g2=True, best_effort=True)
+    assert many.to_json() == curve.to_json()
+    # accuracy is validated and changes only what is approximated (the quadratures).
+    with pytest.raises(fairspline.Error) as e:
+        fairspline.fit(example_points(), accuracy=0.0)
+    assert e.value.code == "bad_option"
+    fine = fairspline.fit(example_points())
+    coarse = fairspline.fit(example_points(), accuracy=1e-3)
+    assert np.array_equal(coarse.segments, fine.segments)
+    rel = abs(coarse.report["bending_energy"] / fine.report["bending_energy"] - 1)
+    assert rel < 1e-3

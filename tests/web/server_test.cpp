@@ -109,6 +109,28 @@ TEST(WebApi, FitAnswersLikeTheCommandLine) {
   EXPECT_EQ(json::parse(d.body).at("method"), default_method_name());
 }
 
+TEST(WebApi, RequestCarriesAccuracyAndBestEffort) {
+  const ServerOptions opt;
+  // A stalled Kozak-Krajnc G2 Newton is a 400 not_converged, or with "best_effort" the curve
+  // and the solver's status.
+  const std::string points = R"("points": [[0,0],[1,1],[2,1.2],[3,0],[4,-1],[5,-0.5],[6,2]])";
+  const std::string g2 =
+      R"("method": "kozak-krajnc", "options": {"g2": true, "g2_max_iterations": 1})";
+  const ApiResponse strict = handle_fit("{" + points + ", " + g2 + "}", opt);
+  ASSERT_EQ(strict.status, 400) << strict.body;
+  EXPECT_EQ(json::parse(strict.body).at("error").at("code"), "not_converged");
+  const ApiResponse best = handle_fit("{" + points + ", " + g2 + R"(, "best_effort": true})", opt);
+  ASSERT_EQ(best.status, 200) << best.body;
+  EXPECT_EQ(json::parse(best.body).at("method_report").at("solver").at("status"),
+            "iteration_limit");
+  const ApiResponse bad = handle_fit("{" + points + R"(, "accuracy": 2})", opt);
+  ASSERT_EQ(bad.status, 400) << bad.body;
+  EXPECT_EQ(json::parse(bad.body).at("error").at("code"), "bad_option");
+  const ApiResponse typed = handle_fit("{" + points + R"(, "best_effort": "yes"})", opt);
+  ASSERT_EQ(typed.status, 400) << typed.body;
+  EXPECT_EQ(json::parse(typed.body).at("error").at("code"), "parse_error");
+}
+
 TEST(WebApi, BadRequestsAre400WithTheLibrarysMessage) {
   ServerOptions opt;
   opt.max_points = 10;
