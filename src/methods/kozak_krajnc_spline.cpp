@@ -642,18 +642,123 @@ nlohmann::json set_json(const XiSet& s) {
   return a;
 }
 
+/// What method_report holds, typed; serialized once by report_json. Solutions are in the input's
+/// units.
+struct KozakKrajncReport {
+  struct Solution {
+    double t1 = 0, t2 = 0, alpha0 = 0, alpha3 = 0;
+    int multiplicity = 1;
+    std::optional<double> energy;  ///< empty: beyond the double range (null)
+  };
+  struct Piece {
+    Solution chosen;
+    std::size_t first = 0, last = 0;  ///< T3ℓ−3, T3ℓ
+    std::vector<Solution> solutions;
+    double xi_left = 0, xi_right = 0;
+    bool convex = false;
+    double lambda1 = 0, lambda2 = 0;
+    bool theorem = false;
+  };
+  struct Breakpoint {
+    std::size_t point = 0;
+    double xi = 0;
+    bool prescribed = false;
+    bool swept = false;  ///< the sweep entries below are reported
+    XiSet xi_set, forward;
+    XiInterval I;
+    bool in_xi = false;
+  };
+  struct Remainder {
+    std::size_t spans = 0, first_point = 0;
+    int pieces = 0;
+  };
+  struct G2 {
+    bool converged = false;
+    int iterations = 0;
+    double residual = 0;
+    std::string reason, start;
+  };
+  std::size_t pieces = 0;
+  bool detailed = false;  ///< level != kNone: everything below is reported
+  std::vector<Piece> segments;
+  std::vector<Breakpoint> breakpoints;
+  bool sweeps = false;
+  std::string tangents;
+  double gamma = 0;  ///< NaN: "auto"
+  std::optional<Remainder> remainder;
+  std::optional<G2> g2;
+};
+
 /// A solution of the scaled problem in the input's units (α ∝ length, energy ∝ length²). An
 /// energy beyond the double range (chords near 1e±300: length² is 1e±600) is null, not Inf.
-nlohmann::json solution_json(const KozakKrajncSolution& s, double unscale) {
+KozakKrajncReport::Solution solution_report(const KozakKrajncSolution& s, double unscale) {
   const double energy = s.energy * unscale * unscale;
+  KozakKrajncReport::Solution r{.t1 = s.t1,
+                                .t2 = s.t2,
+                                .alpha0 = s.alpha0 * unscale,
+                                .alpha3 = s.alpha3 * unscale,
+                                .multiplicity = s.multiplicity,
+                                .energy = std::nullopt};
+  if (std::isfinite(energy) && (energy > 0.0 || s.energy == 0.0)) r.energy = energy;
+  return r;
+}
+
+nlohmann::json solution_json(const KozakKrajncReport::Solution& s) {
   return {{"t1", s.t1},
           {"t2", s.t2},
-          {"alpha0", s.alpha0 * unscale},
-          {"alpha3", s.alpha3 * unscale},
+          {"alpha0", s.alpha0},
+          {"alpha3", s.alpha3},
           {"multiplicity", s.multiplicity},
-          {"energy", std::isfinite(energy) && (energy > 0.0 || s.energy == 0.0)
-                         ? nlohmann::json(energy)
-                         : nlohmann::json(nullptr)}};
+          {"energy", s.energy ? nlohmann::json(*s.energy) : nlohmann::json(nullptr)}};
+}
+
+nlohmann::json report_json(const KozakKrajncReport& r) {
+  nlohmann::json j = nlohmann::json::object();
+  j["pieces"] = r.pieces;
+  if (!r.detailed) return j;
+  nlohmann::json segs = nlohmann::json::array();
+  for (const KozakKrajncReport::Piece& p : r.segments) {
+    nlohmann::json sols = nlohmann::json::array();
+    for (const KozakKrajncReport::Solution& s : p.solutions) sols.push_back(solution_json(s));
+    nlohmann::json seg = solution_json(p.chosen);
+    seg["points"] = {p.first, p.last};
+    seg["solutions"] = sols;
+    seg["xi"] = {p.xi_left, p.xi_right};
+    seg["convex"] = p.convex;
+    seg["lambda"] = {p.lambda1, p.lambda2};
+    seg["theorem"] = p.theorem;
+    segs.push_back(seg);
+  }
+  j["segments"] = segs;
+  nlohmann::json bps = nlohmann::json::array();
+  for (const KozakKrajncReport::Breakpoint& b : r.breakpoints) {
+    nlohmann::json bp = {{"point", b.point}, {"xi", b.xi}, {"prescribed", b.prescribed}};
+    if (b.swept) {
+      bp["Xi"] = set_json(b.xi_set);
+      bp["Xi_forward"] = set_json(b.forward);
+      bp["I"] = interval_json(b.I);
+      bp["in_Xi"] = b.in_xi;
+    }
+    bps.push_back(bp);
+  }
+  j["breakpoints"] = bps;
+  j["sweeps"] = r.sweeps;
+  j["tangents"] = r.tangents;
+  j["gamma"] = std::isnan(r.gamma) ? nlohmann::json("auto") : nlohmann::json(r.gamma);
+  if (r.remainder) {
+    j["remainder"] = {{"spans", r.remainder->spans},
+                      {"first_point", r.remainder->first_point},
+                      {"construction", "yong-cheng-coh"},
+                      {"pieces", r.remainder->pieces}};
+  }
+  if (r.g2) {
+    j["g2"] = {{"converged", r.g2->converged},
+               {"iterations", r.g2->iterations},
+               {"max_scaled_curvature_jump", r.g2->residual},
+               {"reason", r.g2->reason},
+               {"start", r.g2->start}};
+  }
+  return j;
 }
 
 constexpr detail::ChoiceTable<KozakKrajncTangents, 3> kTangentRule{
@@ -679,27 +784,47 @@ const Capabilities& kozak_krajnc_capabilities() {
   return caps;
 }
 
-}  // namespace
+/// The prepare stage's output: the points scaled by a power of two, the prescribed directions
+/// and the geometry of the pieces. Not copyable: `g` views `scaled`.
+struct Prepared {
+  std::size_t n = 0;     ///< points
+  std::size_t rest = 0;  ///< spans left to the Hermite remainder
+  std::size_t nk = 0;    ///< points covered by Kozak–Krajnc pieces
+  double unscale = 1.0;
+  std::vector<Point> scaled;
+  std::vector<std::optional<Vec2>> given;  ///< per point
+  bool all_given = false;                  ///< every breakpoint prescribed: no sweeps
+  Geometry g;
+  std::vector<std::optional<double>> fixed;  ///< per breakpoint: the prescribed ξ
 
-void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, ReportLevel level,
-                      FitResult& out) {
-  // Each cubic passes through four consecutive points: 3m+1 points unless remainder=hermite.
-  detail::prepare_input(input, kozak_krajnc_capabilities(), "kozak-krajnc", out,
-                        options.remainder_hermite);
-  if (!std::isnan(options.gamma) && !(options.gamma >= 0.0 && options.gamma <= 1.0)) {
-    throw Error(ErrorCode::kBadOption, "kozak-krajnc: gamma must lie in [0, 1]");
-  }
-  const std::size_t n = out.points.size();
-  const std::size_t rest = (n - 1) % 3;
-  const std::size_t nk = n - rest;  // points covered by Kozak–Krajnc pieces
-  // Work on the points scaled by a power of two (exact) that brings the chords to size ~1: the
-  // constants (2.6) are products of chord coordinates and would overflow or underflow for data
-  // near the ends of the double range. The curve is scaled back at the end.
+  Prepared() = default;
+  Prepared(const Prepared&) = delete;
+  Prepared& operator=(const Prepared&) = delete;
+};
+
+/// The directions stage's output.
+struct Directions {
+  KozakKrajncSweep sw;
+  std::vector<double> xi;
+  std::vector<char> in_xi;  ///< ξℓ lies in the swept set Ξℓ
+};
+
+/// The optional G2 stage's output.
+struct G2Outcome {
+  G2Report rep;
+  std::string start;  ///< the start that converged (else the first one tried)
+};
+
+/// The power of two that brings the chords to size ~1 (scaling by it is exact): the constants
+/// (2.6) are products of chord coordinates and would overflow or underflow for data near the
+/// ends of the double range. The curve is scaled back at the end.
+int scale_exponent(const std::vector<Point>& points) {
+  const std::size_t n = points.size();
   double max_chord = 0.0, max_coord = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    max_coord = std::max({max_coord, std::abs(out.points[i].x), std::abs(out.points[i].y)});
+    max_coord = std::max({max_coord, std::abs(points[i].x), std::abs(points[i].y)});
     if (i + 1 < n) {
-      const Vec2 c = out.points[i + 1] - out.points[i];
+      const Vec2 c = points[i + 1] - points[i];
       max_chord = std::max({max_chord, std::abs(c.x), std::abs(c.y)});
     }
   }
@@ -707,26 +832,44 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   std::frexp(max_chord, &exponent);
   int coord_exponent = 0;
   std::frexp(max_coord, &coord_exponent);
-  exponent = std::max(exponent, coord_exponent - 1000);  // scaled coordinates stay finite
-  const double scale = std::ldexp(1.0, -exponent), unscale = std::ldexp(1.0, exponent);
-  std::vector<Point> scaled(n);
-  for (std::size_t i = 0; i < n; ++i) scaled[i] = scale * out.points[i];
-  const std::span<const Point> T(scaled.data(), nk);
+  return std::max(exponent, coord_exponent - 1000);  // scaled coordinates stay finite
+}
+
+void prepare(const FitInput& input, const KozakKrajncOptions& options, FitResult& out,
+             Prepared& p) {
+  // Each cubic passes through four consecutive points: 3m+1 points unless remainder=hermite.
+  detail::prepare_input(input, kozak_krajnc_capabilities(), "kozak-krajnc", out,
+                        options.remainder_hermite);
+  if (!std::isnan(options.gamma) && !(options.gamma >= 0.0 && options.gamma <= 1.0)) {
+    throw Error(ErrorCode::kBadOption, "kozak-krajnc: gamma must lie in [0, 1]");
+  }
+  const std::size_t n = out.points.size();
+  p.n = n;
+  p.rest = (n - 1) % 3;
+  p.nk = n - p.rest;
+  const std::size_t nk = p.nk;
+  const int exponent = scale_exponent(out.points);
+  const double scale = std::ldexp(1.0, -exponent);
+  p.unscale = std::ldexp(1.0, exponent);
+  p.scaled.resize(n);
+  for (std::size_t i = 0; i < n; ++i) p.scaled[i] = scale * out.points[i];
+  const std::span<const Point> T(p.scaled.data(), nk);
   // Prescribed directions: per-point tangents at breakpoints, start/end tangents.
-  std::vector<std::optional<Vec2>> given(n);
-  for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) given[i] = input.tangents[i];
-  if (input.start_tangent) given[0] = input.start_tangent;
-  if (input.end_tangent) given[n - 1] = input.end_tangent;
+  p.given.assign(n, std::nullopt);
+  for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
+    p.given[i] = input.tangents[i];
+  }
+  if (input.start_tangent) p.given[0] = input.start_tangent;
+  if (input.end_tangent) p.given[n - 1] = input.end_tangent;
   // Every breakpoint prescribed (e.g. one piece with both ends clamped): no sweeps, each piece
   // is the single-piece problem of Section 2, solved exactly whatever the directions.
-  bool all_given = true;
-  for (std::size_t i = 0; i < nk; i += 3) all_given = all_given && given[i].has_value();
-  const Geometry g = geometry(T, scaled, !all_given);
-  const std::size_t m = g.m;
+  p.all_given = true;
+  for (std::size_t i = 0; i < nk; i += 3) p.all_given = p.all_given && p.given[i].has_value();
+  p.g = geometry(T, p.scaled, !p.all_given);
 
-  std::vector<std::optional<double>> fixed(m + 1);
+  p.fixed.assign(p.g.m + 1, std::nullopt);
   for (std::size_t i = 0; i < nk; ++i) {
-    if (!given[i]) continue;
+    if (!p.given[i]) continue;
     if (i % 3 != 0) {
       throw Error(ErrorCode::kInvalidArgument,
                   "kozak-krajnc: a tangent is given at " + pt(i) +
@@ -734,9 +877,9 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                       "breakpoint with a free direction)",
                   i);
     }
-    const auto x = xi_of(g, i / 3, *given[i]);
-    if (all_given) {
-      fixed[i / 3] = x.value_or(std::numeric_limits<double>::quiet_NaN());
+    const auto x = xi_of(p.g, i / 3, *p.given[i]);
+    if (p.all_given) {
+      p.fixed[i / 3] = x.value_or(std::numeric_limits<double>::quiet_NaN());
       continue;
     }
     if (!x) {
@@ -745,54 +888,81 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                       " lies outside the cone of directions (4.1) that the sweeps can admit there",
                   i);
     }
-    fixed[i / 3] = *x;
+    p.fixed[i / 3] = *x;
   }
-  KozakKrajncSweep sw;
-  if (all_given) {
-    sw.pieces = m;
-    sw.I.assign(m + 1, {0.0, 1.0, false});
-    sw.forward.assign(m + 1, {});
-    sw.xi.assign(m + 1, {});
-  } else {
-    sw = sweep(g, fixed);
-  }
+}
 
-  std::vector<double> xi;
-  if (all_given) {
-    xi.resize(m + 1);
-    for (std::size_t l = 0; l <= m; ++l) xi[l] = *fixed[l];
-  } else if (options.tangents == KozakKrajncTangents::kSweep) {
-    xi = select(g, sw, options.gamma);
-  } else {
-    const bool chordal = options.tangents == KozakKrajncTangents::kLocalQuadraticChordal;
-    xi.resize(m + 1);
-    for (std::size_t l = 0; l <= m; ++l) {
-      if (fixed[l]) {
-        xi[l] = *fixed[l];
-        continue;
-      }
-      const std::size_t i = 3 * l;
-      const auto x = xi_of(g, l, local_quadratic_direction(g.all, i, chordal));
-      if (!x) {
-        throw Error(ErrorCode::kInfeasible,
-                    "kozak-krajnc: the " + std::string(kTangentRule.name(options.tangents)) +
-                        " direction at " + pt(i) +
-                        " lies outside the cone of directions (4.1) admitted there; use "
-                        "tangents=sweep",
-                    i);
-      }
-      xi[l] = *x;
-    }
-  }
-  // Membership of the chosen ξ in the swept sets (always true for tangents=sweep).
-  std::vector<char> in_xi(m + 1, 0);
-  for (std::size_t l = 0; l <= m; ++l) {
+/// Membership of each ξℓ in its swept set Ξℓ (always true for tangents=sweep).
+std::vector<char> in_swept_sets(const KozakKrajncSweep& sw, const std::vector<double>& xi) {
+  std::vector<char> in_xi(xi.size(), 0);
+  for (std::size_t l = 0; l < xi.size(); ++l) {
     for (const XiInterval& c : sw.xi[l]) in_xi[l] = in_xi[l] || c.contains(xi[l]);
   }
+  return in_xi;
+}
 
+/// ξ at every breakpoint of the local parabolas' directions; prescribed ones stay. Empty when
+/// one lies outside the cone (4.1), with that breakpoint in `outside`.
+std::vector<double> local_quadratic_xi(const Prepared& p, bool chordal, std::size_t& outside) {
+  std::vector<double> xi(p.g.m + 1);
+  for (std::size_t l = 0; l <= p.g.m; ++l) {
+    if (p.fixed[l]) {
+      xi[l] = *p.fixed[l];
+      continue;
+    }
+    const auto x = xi_of(p.g, l, local_quadratic_direction(p.g.all, 3 * l, chordal));
+    if (!x) {
+      outside = l;
+      return {};
+    }
+    xi[l] = *x;
+  }
+  return xi;
+}
+
+/// Directions stage: the sweeps (unless every direction is prescribed) and the ξ chosen by the
+/// tangent rule.
+Directions choose_directions(const Prepared& p, const KozakKrajncOptions& options) {
+  const std::size_t m = p.g.m;
+  Directions d;
+  if (p.all_given) {
+    d.sw.pieces = m;
+    d.sw.I.assign(m + 1, {0.0, 1.0, false});
+    d.sw.forward.assign(m + 1, {});
+    d.sw.xi.assign(m + 1, {});
+    d.xi.resize(m + 1);
+    for (std::size_t l = 0; l <= m; ++l) d.xi[l] = *p.fixed[l];
+  } else {
+    d.sw = sweep(p.g, p.fixed);
+    if (options.tangents == KozakKrajncTangents::kSweep) {
+      d.xi = select(p.g, d.sw, options.gamma);
+    } else {
+      const bool chordal = options.tangents == KozakKrajncTangents::kLocalQuadraticChordal;
+      std::size_t l = 0;
+      d.xi = local_quadratic_xi(p, chordal, l);
+      if (d.xi.empty()) {
+        throw Error(ErrorCode::kInfeasible,
+                    "kozak-krajnc: the " + std::string(kTangentRule.name(options.tangents)) +
+                        " direction at " + pt(3 * l) +
+                        " lies outside the cone of directions (4.1) admitted there; use "
+                        "tangents=sweep",
+                    3 * l);
+      }
+    }
+  }
+  d.in_xi = in_swept_sets(d.sw, d.xi);
+  return d;
+}
+
+/// Pieces stage: solves every piece for the chosen directions; the error names why a piece has
+/// no admissible solution.
+std::vector<PieceFit> solve_pieces(const Prepared& p, const Directions& d,
+                                   const KozakKrajncOptions& options) {
+  const Geometry& g = p.g;
+  const std::size_t m = g.m;
   std::vector<PieceFit> pieces(m + 1);
   auto dir_at = [&](std::size_t l) {
-    return all_given ? unit(*given[3 * l]) : direction(g, l, xi[l]);
+    return p.all_given ? unit(*p.given[3 * l]) : direction(g, l, d.xi[l]);
   };
   for (std::size_t l = 1; l <= m; ++l) {
     bool solved = false;
@@ -802,7 +972,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
       throw Error(e.code(), "kozak-krajnc: piece " + std::to_string(l) + ": " + e.what(),
                   3 * l - 3);
     }
-    if (!solved && all_given) {
+    if (!solved && p.all_given) {
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." +
                       pt(3 * l) +
@@ -811,73 +981,83 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
                   3 * l - 3);
     }
     if (!solved) {
-      const bool outside = !in_xi[l - 1] || !in_xi[l];
-      throw Error(ErrorCode::kInfeasible,
-                  "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." +
-                      pt(3 * l) + ") has no admissible solution for the " +
-                      std::string(kTangentRule.name(options.tangents)) + " directions" +
-                      (outside ? std::string(" (they lie outside the swept sets Ξ: ") +
-                                     pt(3 * l - 3) + " " + describe(sw.xi[l - 1]) + ", " +
-                                     pt(3 * l) + " " + describe(sw.xi[l]) + "); use tangents=sweep"
-                       : admissible(g, l, pieces[l].d0, pieces[l].d3)
-                           ? std::string(" although they satisfy the theorems "
-                                         "(numerically borderline data)")
-                           : std::string(" (each lies in its swept set Ξ but the pair "
-                                         "fails Theorems 2.4/2.5); use tangents=sweep")),
-                  3 * l - 3);
+      const bool outside = !d.in_xi[l - 1] || !d.in_xi[l];
+      throw Error(
+          ErrorCode::kInfeasible,
+          "kozak-krajnc: piece " + std::to_string(l) + " (" + pt(3 * l - 3) + ".." + pt(3 * l) +
+              ") has no admissible solution for the " +
+              std::string(kTangentRule.name(options.tangents)) + " directions" +
+              (outside ? std::string(" (they lie outside the swept sets Ξ: ") + pt(3 * l - 3) +
+                             " " + describe(d.sw.xi[l - 1]) + ", " + pt(3 * l) + " " +
+                             describe(d.sw.xi[l]) + "); use tangents=sweep"
+               : admissible(g, l, pieces[l].d0, pieces[l].d3)
+                   ? std::string(" although they satisfy the theorems "
+                                 "(numerically borderline data)")
+                   : std::string(" (each lies in its swept set Ξ but the pair "
+                                 "fails Theorems 2.4/2.5); use tangents=sweep")),
+          3 * l - 3);
     }
   }
-  G2Report g2;
-  std::string g2_start;
-  if (options.g2 && all_given) {
-    g2.reason = "every direction is prescribed: nothing to solve for";
-  } else if (options.g2) {
-    // Newton from the G1 solution; Newton is local, so if that start fails, the directions of
-    // the local parabolas are tried as further starts (reported as "start").
+  return pieces;
+}
+
+/// Optional G2 stage: Newton on (1.4) from the G1 solution. On convergence `d` and `pieces`
+/// take the G2 directions and pieces. Throws kNotConverged unless a best effort is asked for.
+G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directions& d,
+                   std::vector<PieceFit>& pieces) {
+  const Geometry& g = p.g;
+  const std::size_t m = g.m;
+  G2Outcome o;
+  if (p.all_given) {
+    o.rep.reason = "every direction is prescribed: nothing to solve for";
+  } else {
+    // Newton is local, so if the G1 start fails, the directions of the local parabolas are
+    // tried as further starts (reported as "start").
     std::vector<char> pinned(m + 1);  // ends and prescribed directions stay
-    for (std::size_t l = 0; l <= m; ++l) pinned[l] = l == 0 || l == m || fixed[l].has_value();
+    for (std::size_t l = 0; l <= m; ++l) pinned[l] = l == 0 || l == m || p.fixed[l].has_value();
     for (const char* start : {"g1", "local-quadratic-chordal", "local-quadratic-uniform"}) {
-      std::vector<double> x = xi;
-      std::vector<PieceFit> p = pieces;
+      std::vector<double> x = d.xi;
+      std::vector<PieceFit> fit = pieces;
       if (std::string(start) != "g1") {
         const bool chordal = std::string(start) == "local-quadratic-chordal";
         bool ok = true;
         for (std::size_t l = 0; l <= m && ok; ++l) {
-          if (fixed[l]) continue;
+          if (p.fixed[l]) continue;
           const auto q = xi_of(g, l, local_quadratic_direction(g.all, 3 * l, chordal));
           ok = q.has_value();
           if (ok) x[l] = *q;
         }
         for (std::size_t l = 1; l <= m && ok; ++l) {
           ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), nullptr,
-                           p[l]);
+                           fit[l]);
         }
         if (!ok) continue;
       }
-      const G2Report attempt = solve_g2(g, x, pinned, options.g2_max_iterations, p);
-      if (g2_start.empty() || attempt.converged) g2 = attempt, g2_start = start;
+      const G2Report attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
+      if (o.start.empty() || attempt.converged) o.rep = attempt, o.start = start;
       if (attempt.converged) {
-        xi = x;
-        pieces = std::move(p);
-        for (std::size_t l = 0; l <= m; ++l) {
-          in_xi[l] = 0;
-          for (const XiInterval& c : sw.xi[l]) in_xi[l] = in_xi[l] || c.contains(xi[l]);
-        }
+        d.xi = x;
+        pieces = std::move(fit);
+        d.in_xi = in_swept_sets(d.sw, d.xi);
         break;
       }
     }
   }
-
-  if (options.g2 && !g2.converged && !options.best_effort) {
+  if (!o.rep.converged && !options.best_effort) {
     throw Error(ErrorCode::kNotConverged,
                 "kozak-krajnc: the G2 Newton iteration on (1.4) stopped after " +
-                    std::to_string(g2.iterations) + " iterations with scaled curvature jump " +
-                    detail::format_number(g2.residual) + " (tolerance " +
-                    detail::format_number(kG2Tolerance) + "): " + g2.reason +
+                    std::to_string(o.rep.iterations) + " iterations with scaled curvature jump " +
+                    detail::format_number(o.rep.residual) + " (tolerance " +
+                    detail::format_number(kG2Tolerance) + "): " + o.rep.reason +
                     "; ask for a best effort to get the G1 spline instead");
   }
+  return o;
+}
 
-  // Output: each piece split at t1, t2 into one Bézier per span.
+/// Assemble stage: each piece split at t1, t2 into one Bézier per span, the remainder's Hermite
+/// curves, scaled back. Returns the number of remainder pieces.
+int assemble(const Prepared& p, const std::vector<PieceFit>& pieces, FitResult& out) {
+  const std::size_t n = p.n, nk = p.nk, m = p.g.m;
   out.spline.closed = false;
   out.spline.segments.clear();
   out.spline.segments.reserve(n - 1);
@@ -885,31 +1065,31 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   std::vector<double> knots = out.knots;
   for (std::size_t l = 1; l <= m; ++l) {
     const std::size_t k = 3 * l - 3;
-    const PieceFit& p = pieces[l];
-    const double t[4] = {0.0, p.s.t1, p.s.t2, 1.0};
+    const PieceFit& f = pieces[l];
+    const double t[4] = {0.0, f.s.t1, f.s.t2, 1.0};
     const double u0 = knots[k], u3 = knots[k + 3];
     for (int i = 0; i < 3; ++i) {
       const double ta = u0 + t[i] * (u3 - u0), tb = u0 + t[i + 1] * (u3 - u0);
       out.knots[k + i] = ta;
-      out.spline.segments.push_back({p.c.subsegment(t[i], t[i + 1]), ta, tb, k + i});
-      out.tangents[k + i] = i == 0 ? p.d0 : unit(p.c.d1(t[i]));
+      out.spline.segments.push_back({f.c.subsegment(t[i], t[i + 1]), ta, tb, k + i});
+      out.tangents[k + i] = i == 0 ? f.d0 : unit(f.c.d1(t[i]));
     }
   }
   out.knots[nk - 1] = knots[nk - 1];
   out.tangents[nk - 1] = pieces[m].d3;
   // Remainder: G1 Hermite curves through the last one or two spans.
   int remainder_pieces = 0;
-  if (rest != 0) {
+  if (p.rest != 0) {
     std::vector<Vec2> d(n);
     d[nk - 1] = pieces[m].d3;
-    const std::span<const Point> all(scaled.data(), n);
+    const std::span<const Point> all(p.scaled.data(), n);
     for (std::size_t i = nk; i < n; ++i) {
-      d[i] = given[i] ? unit(*given[i]) : unit(local_quadratic_direction(all, i, true));
+      d[i] = p.given[i] ? unit(*p.given[i]) : unit(local_quadratic_direction(all, i, true));
     }
     for (std::size_t i = nk - 1; i + 1 < n; ++i) {
       // Yong–Cheng's composite optimized geometric Hermite curve: one OGH cubic, or two or three
       // when the directions would give a loop, cusp or fold (any angles allowed).
-      const CohCurve c = coh_curve(scaled[i], scaled[i + 1], d[i], d[i + 1]);
+      const CohCurve c = coh_curve(p.scaled[i], p.scaled[i + 1], d[i], d[i + 1]);
       const double ta = out.knots[i], tb = out.knots[i + 1];
       for (int k = 0; k < c.count; ++k) {
         out.spline.segments.push_back(
@@ -921,7 +1101,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   }
   for (Segment& s : out.spline.segments) {
     for (Point& q : s.bezier.p) {
-      q = unscale * q;
+      q = p.unscale * q;
       if (!is_finite(q)) {
         throw Error(ErrorCode::kNonFinite,
                     "kozak-krajnc: a control point overflowed on span " + std::to_string(s.span),
@@ -929,59 +1109,85 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
       }
     }
   }
+  return remainder_pieces;
+}
 
-  out.method_report = nlohmann::json::object();
-  out.method_report["pieces"] = m;
-  if (level == ReportLevel::kNone) return;
-  nlohmann::json segs = nlohmann::json::array();
+/// Describe stage: collects the report of the fit.
+KozakKrajncReport describe_fit(const Prepared& p, const Directions& d,
+                               const std::vector<PieceFit>& pieces, int remainder_pieces,
+                               const std::optional<G2Outcome>& g2,
+                               const KozakKrajncOptions& options, ReportLevel level) {
+  const Geometry& g = p.g;
+  const std::size_t m = g.m;
+  KozakKrajncReport r;
+  r.pieces = m;
+  r.detailed = level != ReportLevel::kNone;
+  if (!r.detailed) return r;
   for (std::size_t l = 1; l <= m; ++l) {
-    const PieceFit& p = pieces[l];
-    nlohmann::json sols = nlohmann::json::array();
-    for (const KozakKrajncSolution& s : p.all) sols.push_back(solution_json(s, unscale));
-    nlohmann::json j = solution_json(p.s, unscale);
-    j["points"] = {3 * l - 3, 3 * l};
-    j["solutions"] = sols;
-    j["xi"] = {xi[l - 1], xi[l]};
-    j["convex"] = g.piece[l].convex;
-    j["lambda"] = {g.piece[l].lambda1, g.piece[l].lambda2};
-    j["theorem"] = admissible(g, l, p.d0, p.d3);
-    segs.push_back(j);
+    const PieceFit& f = pieces[l];
+    KozakKrajncReport::Piece seg;
+    for (const KozakKrajncSolution& s : f.all)
+      seg.solutions.push_back(solution_report(s, p.unscale));
+    seg.chosen = solution_report(f.s, p.unscale);
+    seg.first = 3 * l - 3;
+    seg.last = 3 * l;
+    seg.xi_left = d.xi[l - 1];
+    seg.xi_right = d.xi[l];
+    seg.convex = g.piece[l].convex;
+    seg.lambda1 = g.piece[l].lambda1;
+    seg.lambda2 = g.piece[l].lambda2;
+    seg.theorem = admissible(g, l, f.d0, f.d3);
+    r.segments.push_back(std::move(seg));
   }
-  out.method_report["segments"] = segs;
-  nlohmann::json bps = nlohmann::json::array();
   for (std::size_t l = 0; l <= m; ++l) {
-    nlohmann::json bp = {{"point", 3 * l}, {"xi", xi[l]}, {"prescribed", fixed[l].has_value()}};
-    if (!all_given) {  // no sweeps when every direction is prescribed
-      bp["Xi"] = set_json(sw.xi[l]);
-      bp["Xi_forward"] = set_json(sw.forward[l]);
-      bp["I"] = interval_json(sw.I[l]);
-      bp["in_Xi"] = in_xi[l] != 0;
-    }
-    bps.push_back(bp);
+    KozakKrajncReport::Breakpoint bp{.point = 3 * l,
+                                     .xi = d.xi[l],
+                                     .prescribed = p.fixed[l].has_value(),
+                                     .swept = !p.all_given,  // no sweeps: nothing to report
+                                     .xi_set = d.sw.xi[l],
+                                     .forward = d.sw.forward[l],
+                                     .I = d.sw.I[l],
+                                     .in_xi = d.in_xi[l] != 0};
+    r.breakpoints.push_back(std::move(bp));
   }
-  out.method_report["breakpoints"] = bps;
-  out.method_report["sweeps"] = !all_given;
-  out.method_report["tangents"] = std::string(kTangentRule.name(options.tangents));
-  out.method_report["gamma"] =
-      std::isnan(options.gamma) ? nlohmann::json("auto") : nlohmann::json(options.gamma);
-  if (rest != 0) {
-    out.method_report["remainder"] = {{"spans", rest},
-                                      {"first_point", nk - 1},
-                                      {"construction", "yong-cheng-coh"},
-                                      {"pieces", remainder_pieces}};
+  r.sweeps = !p.all_given;
+  r.tangents = std::string(kTangentRule.name(options.tangents));
+  r.gamma = options.gamma;
+  if (p.rest != 0) {
+    r.remainder = KozakKrajncReport::Remainder{
+        .spans = p.rest, .first_point = p.nk - 1, .pieces = remainder_pieces};
   }
-  if (options.g2) {
-    out.solver = SolverReport{.status = g2.converged ? SolverStatus::kConverged
-                                        : g2.at_cap  ? SolverStatus::kIterationLimit
-                                                     : SolverStatus::kStalled,
-                              .iterations = g2.iterations,
-                              .residual = g2.residual,
+  if (g2) {
+    r.g2 = KozakKrajncReport::G2{.converged = g2->rep.converged,
+                                 .iterations = g2->rep.iterations,
+                                 .residual = g2->rep.residual,
+                                 .reason = g2->rep.reason,
+                                 .start = g2->start};
+  }
+  return r;
+}
+
+}  // namespace
+
+void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, ReportLevel level,
+                      FitResult& out) {
+  Prepared p;
+  prepare(input, options, out, p);
+  Directions d = choose_directions(p, options);
+  std::vector<PieceFit> pieces = solve_pieces(p, d, options);
+  std::optional<G2Outcome> g2;
+  if (options.g2) g2 = g2_stage(p, options, d, pieces);
+  const int remainder_pieces = assemble(p, pieces, out);
+  out.method_report = report_json(describe_fit(p, d, pieces, remainder_pieces, g2, options, level));
+  // Kept as it was: with level none the solver status is not set.
+  if (g2 && level != ReportLevel::kNone) {
+    const G2Report& rep = g2->rep;
+    out.solver = SolverReport{.status = rep.converged ? SolverStatus::kConverged
+                                        : rep.at_cap  ? SolverStatus::kIterationLimit
+                                                      : SolverStatus::kStalled,
+                              .iterations = rep.iterations,
+                              .residual = rep.residual,
                               .tolerance = kG2Tolerance};
-    out.method_report["g2"] = {{"converged", g2.converged},
-                               {"iterations", g2.iterations},
-                               {"max_scaled_curvature_jump", g2.residual},
-                               {"reason", g2.reason},
-                               {"start", g2_start}};
   }
 }
 

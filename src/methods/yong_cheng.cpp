@@ -748,6 +748,170 @@ void collect_tangents(const FitInput& input, std::size_t n, std::vector<Vec2>& v
   if (input.end_tangent && !input.closed) v[n - 1] = *input.end_tangent;
 }
 
+/// One span's entry of method_report.
+struct YongChengSpanReport {
+  std::string construction;
+  int pieces = 0;
+  double theta_deg = 0.0, phi_deg = 0.0;
+  std::vector<std::array<double, 2>> coefficients;  ///< (a0, a1) per piece
+  bool preserved = false;
+};
+
+/// What method_report holds, typed; serialized once by report_json.
+struct YongChengReport {
+  bool composite = true;
+  std::string ratio, tangents_from;
+  bool detailed = false;  ///< level != kNone: the entries below are reported
+  std::vector<YongChengSpanReport> spans;
+  std::map<std::string, int> constructions;
+  bool all_preserved = true;
+};
+
+nlohmann::json report_json(const YongChengReport& r) {
+  nlohmann::json j = {
+      {"composite", r.composite}, {"ratio", r.ratio}, {"tangents_from", r.tangents_from}};
+  if (!r.detailed) return j;
+  nlohmann::json spans = nlohmann::json::array();
+  for (const YongChengSpanReport& s : r.spans) {
+    nlohmann::json coeffs = nlohmann::json::array();
+    for (const auto& a : s.coefficients) coeffs.push_back({a[0], a[1]});
+    spans.push_back({{"construction", s.construction},
+                     {"pieces", s.pieces},
+                     {"theta_deg", s.theta_deg},
+                     {"phi_deg", s.phi_deg},
+                     {"coefficients", std::move(coeffs)},
+                     {"preserved", s.preserved}});
+  }
+  j["spans"] = std::move(spans);
+  j["constructions"] = r.constructions;
+  j["all_preserved"] = r.all_preserved;
+  return j;
+}
+
+/// Composite spans are built a chunk at a time by the batch dispatcher (coh_curves).
+constexpr std::size_t kChunk = 256;
+
+/// The free-ratio curves of spans first..first+count−1 into `chunk`.
+void free_ratio_chunk(const FitResult& out, const std::vector<Vec2>& v, std::size_t first,
+                      std::size_t count, bool composite,
+                      std::array<HermiteEnds, kChunk>& chunk_ends, std::vector<CohCurve>& chunk) {
+  const std::size_t n = out.points.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t a = first + k, b = a + 1 == n ? 0 : a + 1;
+    chunk_ends[k] = {out.points[a], out.points[b], v[a], v[b]};
+  }
+  try {
+    if (composite) {
+      coh_curves({chunk_ends.data(), count}, chunk);
+    } else {
+      for (std::size_t k = 0; k < count; ++k) {
+        const HermiteEnds& e = chunk_ends[k];
+        chunk[k] = coh_construct(CohMethod::kM0, CohSymmetry::kNone, e.p0, e.p1, e.v0, e.v1);
+      }
+    }
+  } catch (const Error& e) {
+    // coh_curves numbers the spans of the chunk; name the span of the curve.
+    const std::size_t span = first + e.index().value_or(0);
+    throw Error(e.code(), "yong-cheng: span " + std::to_string(span) + ": " + e.what(), span);
+  }
+}
+
+/// The equal-ratio curve (a0 = a1 = a*) of span i.
+CohCurve equal_ratio_curve(Point p0, Point p1, Vec2 v0, Vec2 v1, double ta, double tb,
+                           std::size_t i) {
+  const double a = ogh_equal_ratio_coefficient(p0, p1, v0, v1, ta, tb);
+  if (!(a > 0.0)) {
+    throw Error(ErrorCode::kInfeasible,
+                "span " + std::to_string(i) +
+                    ": the equal-ratio coefficient a* is not positive (|V0| cos(theta) + "
+                    "|V1| cos(phi) <= 0), so the curve would reverse the given tangents; "
+                    "use ratio=free",
+                i);
+  }
+  CohCurve c;
+  c.count = 1;
+  c.pieces[0] = hermite_bezier(p0, p1, a * v0, a * v1, ta, tb);
+  c.coefficients[0] = {a, a};
+  return c;
+}
+
+/// [ta, tb] split among the pieces in proportion to their chords.
+std::array<double, 4> piece_cuts(const CohCurve& c, double ta, double tb) {
+  std::array<double, 4> cut{ta, tb, tb, tb};
+  if (c.count > 1) {
+    double total = 0.0;
+    std::array<double, 3> len{};
+    for (int k = 0; k < c.count; ++k) {
+      len[k] = detail::safe_norm(c.pieces[k].p[3] - c.pieces[k].p[0]);
+      total += len[k];
+    }
+    double acc = 0.0;
+    for (int k = 0; k < c.count; ++k) {
+      cut[k] = ta + (tb - ta) * (acc / total);
+      acc += len[k];
+    }
+    cut[c.count] = tb;
+  }
+  return cut;
+}
+
+/// The report entry of span i (from point i to point j). Throws when a coefficient is not
+/// representable: called in span order, so that the first failing span is named.
+YongChengSpanReport span_report(const CohCurve& c, bool equal, Point p0, Point p1, Vec2 v0, Vec2 v1,
+                                const std::array<double, 4>& cut, std::size_t i, std::size_t j) {
+  YongChengSpanReport r;
+  r.construction = equal ? std::string("equal-ratio") : coh_name(c.method, c.symmetry);
+  r.pieces = c.count;
+  const TangentAngles ang = tangent_angles(p0, p1, v0, v1);
+  r.theta_deg = ang.theta / kDeg;
+  r.phi_deg = ang.phi / kDeg;
+  r.preserved = c.preserved;
+  for (int k = 0; k < c.count; ++k) {
+    if (equal) {
+      r.coefficients.push_back({c.coefficients[k].a0, c.coefficients[k].a1});
+      continue;
+    }
+    // World coefficients are relative to unit directions on [0, 1]; rescale to the given
+    // vector at a span end and to the piece's parameter interval.
+    // (norm, not sqrt(norm2): the square of a tangent of length 1e-170 underflows.) A
+    // tangent so short that the coefficient relative to it overflows (a denormal one) is
+    // refused rather than reported as Inf (found by fuzz_fit).
+    // |V| as m·|V/m| (m = max |component|): hypot of a tangent near 1e308 is Inf.
+    const double hk = cut[k + 1] - cut[k];
+    const auto per_length = [](double a, Vec2 v) {
+      const double m = std::max(std::abs(v.x), std::abs(v.y));
+      return a / m / norm(v / m);
+    };
+    const double a0 =
+        k == 0 ? per_length(c.coefficients[k].a0 / hk, v0) : c.coefficients[k].a0 / hk;
+    const double a1 =
+        k + 1 == c.count ? per_length(c.coefficients[k].a1 / hk, v1) : c.coefficients[k].a1 / hk;
+    if (!std::isfinite(a0) || !std::isfinite(a1)) {
+      const std::size_t at = std::isfinite(a0) ? j : i;
+      throw Error(ErrorCode::kNonFinite,
+                  "yong-cheng: the tangent at point " + std::to_string(at) +
+                      " is too short for its Hermite coefficient to be represented in double "
+                      "precision; scale it up",
+                  at);
+    }
+    r.coefficients.push_back({a0, a1});
+  }
+  return r;
+}
+
+/// Names the first span with a non-finite control point (`bad`: the OR of their bits).
+void check_finite(const FitResult& out, std::uint64_t bad) {
+  if (!bad) return;
+  for (const Segment& s : out.spline.segments) {
+    if (detail::non_finite_bits(s)) {
+      throw Error(ErrorCode::kNonFinite,
+                  "yong-cheng: span " + std::to_string(s.span) +
+                      " overflows (coordinates too large for double arithmetic)",
+                  s.span);
+    }
+  }
+}
+
 }  // namespace
 
 void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, ReportLevel level,
@@ -761,144 +925,45 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
   out.tangents.resize(n);
   for (std::size_t i = 0; i < n; ++i) out.tangents[i] = safe_unit(v[i]);
 
-  const bool report = level != ReportLevel::kNone;
-  nlohmann::json span_reports = nlohmann::json::array();
-  std::map<std::string, int> counts;
-  bool all_preserved = true;
+  const bool free_ratio = options.ratio == YongChengRatio::kFree;
+  YongChengReport report{.composite = options.composite,
+                         .ratio = std::string(kRatio.name(options.ratio)),
+                         .tangents_from = options.tangents_from,
+                         .detailed = level != ReportLevel::kNone,
+                         .spans = {},
+                         .constructions = {},
+                         .all_preserved = true};
   out.spline.segments.clear();
   out.spline.segments.reserve(spans);
   std::uint64_t bad = 0;
-  // Composite spans are built a chunk at a time by the batch dispatcher (coh_curves).
-  constexpr std::size_t kChunk = 256;
   std::array<HermiteEnds, kChunk> chunk_ends;
-  std::vector<CohCurve> chunk(options.ratio == YongChengRatio::kFree ? std::min(kChunk, spans) : 0);
+  std::vector<CohCurve> chunk(free_ratio ? std::min(kChunk, spans) : 0);
   for (std::size_t i = 0; i < spans; ++i) {
     const std::size_t j = i + 1 == n ? 0 : i + 1;
     const Point p0 = out.points[i], p1 = out.points[j];
     const Vec2 v0 = v[i], v1 = v[j];
     const double ta = out.knots[i], tb = out.knots[i + 1];
-    if (options.ratio == YongChengRatio::kFree && i % kChunk == 0) {
-      const std::size_t m = std::min(kChunk, spans - i);
-      for (std::size_t k = 0; k < m; ++k) {
-        const std::size_t a = i + k, b = a + 1 == n ? 0 : a + 1;
-        chunk_ends[k] = {out.points[a], out.points[b], v[a], v[b]};
-      }
-      try {
-        if (options.composite) {
-          coh_curves({chunk_ends.data(), m}, chunk);
-        } else {
-          for (std::size_t k = 0; k < m; ++k) {
-            const HermiteEnds& e = chunk_ends[k];
-            chunk[k] = coh_construct(CohMethod::kM0, CohSymmetry::kNone, e.p0, e.p1, e.v0, e.v1);
-          }
-        }
-      } catch (const Error& e) {
-        // coh_curves numbers the spans of the chunk; name the span of the curve.
-        const std::size_t span = i + e.index().value_or(0);
-        throw Error(e.code(), "yong-cheng: span " + std::to_string(span) + ": " + e.what(), span);
-      }
+    if (free_ratio && i % kChunk == 0) {
+      free_ratio_chunk(out, v, i, std::min(kChunk, spans - i), options.composite, chunk_ends,
+                       chunk);
     }
     CohCurve equal;
-    if (options.ratio == YongChengRatio::kEqual) {
-      const double a = ogh_equal_ratio_coefficient(p0, p1, v0, v1, ta, tb);
-      if (!(a > 0.0)) {
-        throw Error(ErrorCode::kInfeasible,
-                    "span " + std::to_string(i) +
-                        ": the equal-ratio coefficient a* is not positive (|V0| cos(theta) + "
-                        "|V1| cos(phi) <= 0), so the curve would reverse the given tangents; "
-                        "use ratio=free",
-                    i);
-      }
-      equal.count = 1;
-      equal.pieces[0] = hermite_bezier(p0, p1, a * v0, a * v1, ta, tb);
-      equal.coefficients[0] = {a, a};
-    }
-    const CohCurve& c = options.ratio == YongChengRatio::kFree ? chunk[i % kChunk] : equal;
-    // Split [ta, tb] among the pieces in proportion to their chords.
-    std::array<double, 4> cut{ta, tb, tb, tb};
-    if (c.count > 1) {
-      double total = 0.0;
-      std::array<double, 3> len{};
-      for (int k = 0; k < c.count; ++k) {
-        len[k] = detail::safe_norm(c.pieces[k].p[3] - c.pieces[k].p[0]);
-        total += len[k];
-      }
-      double acc = 0.0;
-      for (int k = 0; k < c.count; ++k) {
-        cut[k] = ta + (tb - ta) * (acc / total);
-        acc += len[k];
-      }
-      cut[c.count] = tb;
-    }
+    if (!free_ratio) equal = equal_ratio_curve(p0, p1, v0, v1, ta, tb, i);
+    const CohCurve& c = free_ratio ? chunk[i % kChunk] : equal;
+    const std::array<double, 4> cut = piece_cuts(c, ta, tb);
     for (int k = 0; k < c.count; ++k) {
       Segment s{c.pieces[k], cut[k], cut[k + 1], i};
       bad |= detail::non_finite_bits(s);
       out.spline.segments.push_back(s);
     }
-    all_preserved = all_preserved && c.preserved;
-    if (report) {
-      const std::string name = options.ratio == YongChengRatio::kEqual
-                                   ? std::string("equal-ratio")
-                                   : coh_name(c.method, c.symmetry);
-      ++counts[name];
-      const TangentAngles ang = tangent_angles(p0, p1, v0, v1);
-      nlohmann::json coeffs = nlohmann::json::array();
-      for (int k = 0; k < c.count; ++k) {
-        if (options.ratio == YongChengRatio::kEqual) {
-          coeffs.push_back({c.coefficients[k].a0, c.coefficients[k].a1});
-          continue;
-        }
-        // World coefficients are relative to unit directions on [0, 1]; rescale to the given
-        // vector at a span end and to the piece's parameter interval.
-        // (norm, not sqrt(norm2): the square of a tangent of length 1e-170 underflows.) A
-        // tangent so short that the coefficient relative to it overflows (a denormal one) is
-        // refused rather than reported as Inf (found by fuzz_fit).
-        // |V| as m·|V/m| (m = max |component|): hypot of a tangent near 1e308 is Inf.
-        const double hk = cut[k + 1] - cut[k];
-        const auto per_length = [](double a, Vec2 v) {
-          const double m = std::max(std::abs(v.x), std::abs(v.y));
-          return a / m / norm(v / m);
-        };
-        const double a0 =
-            k == 0 ? per_length(c.coefficients[k].a0 / hk, v0) : c.coefficients[k].a0 / hk;
-        const double a1 = k + 1 == c.count ? per_length(c.coefficients[k].a1 / hk, v1)
-                                           : c.coefficients[k].a1 / hk;
-        if (!std::isfinite(a0) || !std::isfinite(a1)) {
-          const std::size_t at = std::isfinite(a0) ? j : i;
-          throw Error(ErrorCode::kNonFinite,
-                      "yong-cheng: the tangent at point " + std::to_string(at) +
-                          " is too short for its Hermite coefficient to be represented in double "
-                          "precision; scale it up",
-                      at);
-        }
-        coeffs.push_back({a0, a1});
-      }
-      span_reports.push_back({{"construction", name},
-                              {"pieces", c.count},
-                              {"theta_deg", ang.theta / kDeg},
-                              {"phi_deg", ang.phi / kDeg},
-                              {"coefficients", std::move(coeffs)},
-                              {"preserved", c.preserved}});
+    report.all_preserved = report.all_preserved && c.preserved;
+    if (report.detailed) {
+      report.spans.push_back(span_report(c, !free_ratio, p0, p1, v0, v1, cut, i, j));
+      ++report.constructions[report.spans.back().construction];
     }
   }
-  if (bad) {
-    for (const Segment& s : out.spline.segments) {
-      if (detail::non_finite_bits(s)) {
-        throw Error(ErrorCode::kNonFinite,
-                    "yong-cheng: span " + std::to_string(s.span) +
-                        " overflows (coordinates too large for double arithmetic)",
-                    s.span);
-      }
-    }
-  }
-  out.method_report = {{"composite", options.composite},
-                       {"ratio", kRatio.name(options.ratio)},
-                       {"tangents_from", options.tangents_from}};
-  if (report) {
-    out.method_report["spans"] = std::move(span_reports);
-    out.method_report["constructions"] = counts;
-    out.method_report["all_preserved"] = all_preserved;
-  }
+  check_finite(out, bad);
+  out.method_report = report_json(report);
 }
 
 FitResult fit_yong_cheng(const FitInput& input, const YongChengOptions& options,
