@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "detail/choices.hpp"
 #include "detail/finite.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
@@ -12,40 +13,33 @@
 
 namespace fairspline {
 
+namespace {
+
+constexpr detail::ChoiceTable<OptionType, 7> kOptionTypes{
+    {{"number", OptionType::kNumber},
+     {"integer", OptionType::kInteger},
+     {"boolean", OptionType::kBoolean},
+     {"choice", OptionType::kChoice},
+     {"string", OptionType::kString},
+     {"number_list", OptionType::kNumberList},
+     {"choice_or_number", OptionType::kChoiceOrNumber}}};
+constexpr detail::ChoiceTable<Continuity, 3> kContinuity{
+    {{"G1", Continuity::kG1}, {"C1", Continuity::kC1}, {"G2", Continuity::kG2}}};
+constexpr detail::ChoiceTable<TangentUse, 2> kTangentUse{
+    {{"optional", TangentUse::kOptional}, {"required", TangentUse::kRequired}}};
+
+}  // namespace
+
 std::string_view option_type_name(OptionType type) {
-  switch (type) {
-    case OptionType::kNumber:
-      return "number";
-    case OptionType::kInteger:
-      return "integer";
-    case OptionType::kBoolean:
-      return "boolean";
-    case OptionType::kChoice:
-      return "choice";
-    case OptionType::kString:
-      return "string";
-    case OptionType::kNumberList:
-      return "number_list";
-    case OptionType::kChoiceOrNumber:
-      return "choice_or_number";
-  }
-  return "unknown";
+  return kOptionTypes.name(type);
 }
 
 std::string_view continuity_name(Continuity c) {
-  switch (c) {
-    case Continuity::kG1:
-      return "G1";
-    case Continuity::kC1:
-      return "C1";
-    case Continuity::kG2:
-      return "G2";
-  }
-  return "unknown";
+  return kContinuity.name(c);
 }
 
 std::string_view tangent_use_name(TangentUse t) {
-  return t == TangentUse::kRequired ? "required" : "optional";
+  return kTangentUse.name(t);
 }
 
 bool Capabilities::honours(PointKind kind) const {

@@ -114,7 +114,9 @@ TEST(RegistryCapabilities, EveryExampleRequestFits) {
       const FitResult r = fit(m.name, req.input, req.options);
       EXPECT_FALSE(r.spline.segments.empty());
       EXPECT_EQ(req.input.closed, r.closed);
-      if (m.capabilities.regular) EXPECT_TRUE(r.report->regular);
+      if (m.capabilities.regular) {
+        EXPECT_TRUE(r.report->regular);
+      }
     }
   }
 }
