@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,6 +27,22 @@ struct ChoiceTable {
       if (c.name == name) return c.value;
     }
     return items[0].value;
+  }
+  /// The value named `name`, if any (for text no schema has checked).
+  constexpr std::optional<E> find(std::string_view name) const {
+    for (const Choice<E>& c : items) {
+      if (c.name == name) return c.value;
+    }
+    return std::nullopt;
+  }
+  /// "a, b or c", for messages.
+  std::string or_list() const {
+    std::string s;
+    for (std::size_t i = 0; i < N; ++i) {
+      s += i == 0 ? "" : i + 1 == N ? " or " : ", ";
+      s += items[i].name;
+    }
+    return s;
   }
   constexpr std::string_view name(E value) const {
     for (const Choice<E>& c : items) {

@@ -7,11 +7,36 @@
 #include <string>
 #include <vector>
 
+#include "detail/choices.hpp"
 #include "fairspline/io/csv.hpp"
 
 namespace fairspline::io {
 
 using nlohmann::json;
+
+namespace {
+
+constexpr detail::ChoiceTable<ReportLevel, 3> kReportLevels{
+    {{"none", ReportLevel::kNone}, {"basic", ReportLevel::kBasic}, {"full", ReportLevel::kFull}}};
+constexpr detail::ChoiceTable<PointKind, 3> kPointKinds{{{"smooth", PointKind::kSmooth},
+                                                         {"clamped", PointKind::kClamped},
+                                                         {"corner", PointKind::kCorner}}};
+constexpr detail::ChoiceTable<SolverStatus, 4> kSolverStatuses{
+    {{"converged", SolverStatus::kConverged},
+     {"conditioning_limit", SolverStatus::kConditioningLimit},
+     {"iteration_limit", SolverStatus::kIterationLimit},
+     {"stalled", SolverStatus::kStalled}}};
+
+/// The value `table` names `text`, else Error(kInvalidArgument) "<what> must be a, b or c".
+template <class E, std::size_t N>
+E parse_choice(const detail::ChoiceTable<E, N>& table, std::string_view text, const char* what) {
+  if (const std::optional<E> v = table.find(text)) return *v;
+  throw Error(ErrorCode::kInvalidArgument,
+              std::string(what) + " must be " + table.or_list() + ", got '" + std::string(text) +
+                  "'");
+}
+
+}  // namespace
 
 namespace {
 
@@ -576,69 +601,23 @@ json error_to_json(const Error& error) {
             {"index", error.index() ? json(*error.index()) : json(nullptr)}}}};
 }
 
+
 ReportLevel parse_report_level(std::string_view text) {
-  if (text == "none") return ReportLevel::kNone;
-  if (text == "basic") return ReportLevel::kBasic;
-  if (text == "full") return ReportLevel::kFull;
-  throw Error(ErrorCode::kInvalidArgument,
-              "report level must be none, basic or full, got '" + std::string(text) + "'");
+  return parse_choice(kReportLevels, text, "report level");
 }
 
-std::string_view report_level_name(ReportLevel level) {
-  switch (level) {
-    case ReportLevel::kNone:
-      return "none";
-    case ReportLevel::kBasic:
-      return "basic";
-    case ReportLevel::kFull:
-      return "full";
-  }
-  return "none";
-}
+std::string_view report_level_name(ReportLevel level) { return kReportLevels.name(level); }
 
 PointKind parse_point_kind(std::string_view text) {
-  if (text == "smooth") return PointKind::kSmooth;
-  if (text == "clamped") return PointKind::kClamped;
-  if (text == "corner") return PointKind::kCorner;
-  throw Error(ErrorCode::kInvalidArgument,
-              "point kind must be smooth, clamped or corner, got '" + std::string(text) + "'");
+  return parse_choice(kPointKinds, text, "point kind");
 }
 
-std::string_view point_kind_name(PointKind kind) {
-  switch (kind) {
-    case PointKind::kSmooth:
-      return "smooth";
-    case PointKind::kClamped:
-      return "clamped";
-    case PointKind::kCorner:
-      return "corner";
-  }
-  return "smooth";
-}
+std::string_view point_kind_name(PointKind kind) { return kPointKinds.name(kind); }
 
-std::string_view solver_status_name(SolverStatus status) {
-  switch (status) {
-    case SolverStatus::kConverged:
-      return "converged";
-    case SolverStatus::kConditioningLimit:
-      return "conditioning_limit";
-    case SolverStatus::kIterationLimit:
-      return "iteration_limit";
-    case SolverStatus::kStalled:
-      return "stalled";
-  }
-  return "converged";
-}
+std::string_view solver_status_name(SolverStatus status) { return kSolverStatuses.name(status); }
 
 SolverStatus parse_solver_status(std::string_view text) {
-  if (text == "converged") return SolverStatus::kConverged;
-  if (text == "conditioning_limit") return SolverStatus::kConditioningLimit;
-  if (text == "iteration_limit") return SolverStatus::kIterationLimit;
-  if (text == "stalled") return SolverStatus::kStalled;
-  throw Error(ErrorCode::kInvalidArgument,
-              "solver status must be converged, conditioning_limit, iteration_limit or stalled, "
-              "got '" +
-                  std::string(text) + "'");
+  return parse_choice(kSolverStatuses, text, "solver status");
 }
 
 std::string summary_table(const FitResult& result) {
