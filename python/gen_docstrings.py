@@ -42,7 +42,7 @@ SYMBOLS = [
     ("report_level", "decl", "fit.hpp", r"^enum class ReportLevel\b"),
     ("report_levels", "enum", "fit.hpp", r"^enum class ReportLevel\b"),
     ("input_alpha", "decl", "fit.hpp", r"^\s*double alpha = kDefaultAlpha;"),
-    ("fit_options_accuracy", "decl", "fit.hpp", r"^\s*double accuracy = kDefaultAccuracy;"),
+    ("fit_options_accuracy", "decl", "fit.hpp", r"^\s*std::optional<double> accuracy\{\};"),
     ("fit_options_best_effort", "decl", "fit.hpp", r"^\s*bool best_effort = false;"),
     ("input_knots", "decl", "fit.hpp", r"^\s*std::vector<double> knots;\s*$"),
     ("input_tangents", "decl", "fit.hpp", r"^\s*std::vector<std::optional<Vec2>> tangents;"),

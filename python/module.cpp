@@ -403,7 +403,7 @@ py::object evaluate(const FitResult& r, py::handle t_obj, Quantity what, int ord
 FitResult py_fit(py::handle points, const std::string& method, bool closed,
                  std::optional<double> alpha, const py::object& start_tangent,
                  const py::object& end_tangent, const py::object& tangents, const py::object& kinds,
-                 const py::object& knots, const std::string& report, double accuracy,
+                 const py::object& knots, const std::string& report, std::optional<double> accuracy,
                  bool best_effort, const py::object& options, const py::kwargs& kwargs) {
   const FitInput in =
       make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds, knots);
@@ -418,7 +418,7 @@ FitResult py_fit(py::handle points, const std::string& method, bool closed,
 py::list py_fit_many(py::iterable curves, const std::string& method, bool closed,
                      std::optional<double> alpha, const py::object& start_tangent,
                      const py::object& end_tangent, std::optional<long long> threads,
-                     const std::string& report, double accuracy, bool best_effort,
+                     const std::string& report, std::optional<double> accuracy, bool best_effort,
                      const std::string& errors, const py::object& options,
                      const py::kwargs& kwargs) {
   if (errors != "raise" && errors != "return") {
@@ -776,17 +776,15 @@ PYBIND11_MODULE(_core, m) {
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("tangents") = py::none(), py::arg("kinds") = py::none(),
-        py::arg("knots") = py::none(), py::arg("report") = "full",
-        py::arg("accuracy") = fairspline::FitOptions::kDefaultAccuracy,
+        py::arg("knots") = py::none(), py::arg("report") = "full", py::arg("accuracy") = py::none(),
         py::arg("best_effort") = false, py::arg("options") = py::none(), keep(fit_doc()));
 
   m.def("fit_many", &py_fit_many, py::arg("curves"), py::arg("method") = default_method,
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("threads") = py::none(), py::arg("report") = "full",
-        py::arg("accuracy") = fairspline::FitOptions::kDefaultAccuracy,
-        py::arg("best_effort") = false, py::arg("errors") = "raise",
-        py::arg("options") = py::none(), keep(fit_many_doc()));
+        py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
+        py::arg("errors") = "raise", py::arg("options") = py::none(), keep(fit_many_doc()));
 
   m.def(
       "methods", [] { return to_python(fairspline::registry_schema()); },

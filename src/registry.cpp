@@ -327,9 +327,9 @@ const FitInput& with_tangents_from(const MethodInfo& method, const FitInput& inp
 void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               const FitOptions& fit_options, FitResult& out) {
   const MethodInfo& method = find_method(method_name);
-  if (!(fit_options.accuracy > 0.0 && fit_options.accuracy < 1.0)) {
+  if (fit_options.accuracy && !(*fit_options.accuracy > 0.0 && *fit_options.accuracy < 1.0)) {
     throw Error(ErrorCode::kBadOption, "the accuracy must be a number between 0 and 1, got " +
-                                           nlohmann::json(fit_options.accuracy).dump());
+                                           nlohmann::json(*fit_options.accuracy).dump());
   }
   nlohmann::json resolved = resolve_options(method, options);
   FitInput completed;
@@ -343,8 +343,8 @@ void fit_into(std::string_view method_name, const FitInput& input, const nlohman
   if (!method.checks_own_output) detail::check_finite_output(out, method.name);
   if (fit_options.level != ReportLevel::kNone) {
     DiagnosticsOptions d;
-    d.energy.accuracy = fit_options.accuracy;
-    d.intersection_accuracy = fit_options.accuracy;
+    d.energy.accuracy = fit_options.report_accuracy();
+    d.intersection_accuracy = fit_options.report_accuracy();
     out.report = make_report(out.spline, out.points, fit_options.level, d);
   }
 }

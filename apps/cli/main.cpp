@@ -372,8 +372,9 @@ int run_serve(const fairspline::web::ServerOptions& options) {
 /// --accuracy and --best-effort, shared by fit and batch.
 void add_fit_options(CLI::App& cmd, std::optional<double>& accuracy, bool& best_effort) {
   cmd.add_option("--accuracy", accuracy,
-                 "Relative accuracy of the report's quadratures and searches, in (0, 1) "
-                 "(default: the request's \"accuracy\", else 1e-9)");
+                 "Relative accuracy of every approximation, in (0, 1): the report's quadratures "
+                 "and searches (default 1e-9), the Beziers of elastic splines (relative to the "
+                 "data's size, default 1e-6); a request's \"accuracy\" unless given");
   cmd.add_flag("--best-effort", best_effort,
                "When an iterative method stops short of its tolerance, write its curve with the "
                "solver's status instead of failing (also a request's \"best_effort\": true)");

@@ -10,6 +10,7 @@
 #include "fairspline/io/csv.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/svg.hpp"
+#include "fairspline/methods/elastic.hpp"
 #include "fairspline/methods/jaklic_zagar.hpp"
 #include "fairspline/methods/kozak_krajnc.hpp"
 #include "fairspline/methods/kozak_krajnc_spline.hpp"

@@ -124,10 +124,12 @@ struct FitResult {
 /// How a fit runs and what it reports, the same for every method.
 struct FitOptions {
   ReportLevel level = ReportLevel::kFull;
-  /// Relative accuracy of every approximation: quadratures of the report, the intersection
-  /// search, approximations of non-polynomial curves by Béziers. Relative to the quantity
-  /// (energies) or to the piece's size (geometry).
-  double accuracy = kDefaultAccuracy;
+  /// Relative accuracy of every approximation: quadratures of the report and the intersection
+  /// search (relative to the quantity, or to the piece's size), approximations of
+  /// non-polynomial curves by Béziers (Hausdorff distance relative to the data's size, the
+  /// diagonal of the points' bounding box). Not given: each approximation's default,
+  /// kDefaultAccuracy for the report, kDefaultCurveAccuracy for the curve.
+  std::optional<double> accuracy{};
   /// Per-node and per-segment entries in method_report (false: only its O(1) summary).
   bool diagnostics = true;
   /// A solver that stops short of its tolerance (iteration cap, no admissible step) returns its
@@ -135,6 +137,11 @@ struct FitOptions {
   bool best_effort = false;
 
   static constexpr double kDefaultAccuracy = 1e-9;
+  /// Béziers of non-polynomial curves (the elastic splines): far below what any drawing shows,
+  /// a few cubics per span.
+  static constexpr double kDefaultCurveAccuracy = 1e-6;
+  double report_accuracy() const { return accuracy.value_or(kDefaultAccuracy); }
+  double curve_accuracy() const { return accuracy.value_or(kDefaultCurveAccuracy); }
 };
 
 }  // namespace fairspline

@@ -14,6 +14,7 @@ std::vector<MethodInfo> jaklic_zagar_methods();
 std::vector<MethodInfo> yong_cheng_methods();
 std::vector<MethodInfo> kozak_krajnc_methods();
 std::vector<MethodInfo> min_energy_methods();
+std::vector<MethodInfo> elastic_methods();
 
 std::vector<MethodInfo> builtin_methods();
 

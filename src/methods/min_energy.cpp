@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "detail/choices.hpp"
+#include "detail/elastica.hpp"
 #include "detail/input.hpp"
 #include "fairspline/error.hpp"
 
@@ -104,6 +107,18 @@ BasicEnergy energy_cs(const BasicCurveMethod& m, double ca, double sa, double cb
       r.eab = mixed.d;
       return r;
     }
+    case MinEnergyBasis::kRestrictedElastic:
+    case MinEnergyBasis::kElastic: {
+      const double a = std::atan2(sa, ca), b = std::atan2(sb, cb);
+      // Outside the s-curve domain there is no piece: an infinite energy that every line
+      // search refuses (the optimizer's constraints keep its iterates inside).
+      if (!detail::elastica_feasible(a, b)) {
+        r.e = std::numeric_limits<double>::infinity();
+        return r;
+      }
+      const detail::ElasticaEnergy q = detail::elastica_energy(a, b);
+      return {q.e, q.ea, q.eb, q.eaa, q.eab, q.ebb};
+    }
   }
   return r;
 }
@@ -119,6 +134,9 @@ BasicSpeeds speeds_cs(const BasicCurveMethod& m, double ca, double sa, double cb
       const double c = ca * cb + sa * sb, den = 4.0 - c * c;
       return {(6.0 * ca - 3.0 * cb * c) / den, (6.0 * cb - 3.0 * ca * c) / den};
     }
+    case MinEnergyBasis::kRestrictedElastic:
+    case MinEnergyBasis::kElastic:
+      break;  // no cubic (basic_curve_pieces)
   }
   return {1.0, 1.0};
 }
@@ -133,6 +151,10 @@ double BasicCurveMethod::default_omega(MinEnergyBasis basis) {
       return 80.0 * kPi / 180.0;
     case MinEnergyBasis::kYongCheng:
       return kPi / 3.0;
+    case MinEnergyBasis::kRestrictedElastic:
+      return kPi / 2.0;
+    case MinEnergyBasis::kElastic:
+      return kPi;
   }
   return kPi / 2.0;
 }
@@ -147,6 +169,10 @@ BasicSpeeds basic_speeds(const BasicCurveMethod& method, double alpha, double be
 
 CubicBezier basic_curve(const BasicCurveMethod& method, Point p0, Point p1, double alpha,
                         double beta) {
+  if (is_elastic(method.basis)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "the elastic basic curve is not a cubic; approximate it with basic_curve_pieces");
+  }
   const Vec2 chord = p1 - p0;
   const double phi = std::atan2(chord.y, chord.x);
   const BasicSpeeds s = basic_speeds(method, alpha, beta);
@@ -362,6 +388,8 @@ struct ChainResult {
   int iterations = 0;
   double pg = 0.0;
   bool converged = false;
+  /// Stopped at the accuracy of the energy's own derivatives (converged to that limit).
+  bool at_precision = false;
 };
 
 /// Projected Newton (bound constraints, active set) on one chain, from ch.x.
@@ -405,8 +433,10 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   for (double w : ch.w) wsum += w;
   const double term =
       m.basis == MinEnergyBasis::kCondG2 ? 6.0 * m.lambda * m.lambda + 12.0 * m.lambda + 6.0 : 0.0;
+  // The elastic energies come from root-finds, relative-accurate to ~1e-12 rather than 1e-14.
+  const double relative_rounding = is_elastic(m.basis) ? 1e-12 : 1e-14;
   const double rounding_scale =
-      1e-14 * (term * wsum + std::abs(energy)) * std::sqrt(static_cast<double>(k));
+      relative_rounding * (term * wsum + std::abs(energy)) * std::sqrt(static_cast<double>(k));
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
     const double pg = projected_gradient(ch, ev.g, gscale);
     res.pg = pg;
@@ -487,6 +517,406 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   res.pg = pg;
   res.converged = pg <= tol;
   return res;
+}
+
+// ---- the elastic basis: coupled constraints |α − β| <= π between neighbouring directions ----
+
+/// Per segment s (nodes i = s, j = s + 1): lo[s] <= x_i − x_j <= hi[s] keeps |α − β| <= limit.
+struct PairBounds {
+  std::vector<double> lo, hi;
+};
+
+PairBounds pair_bounds(const Chain& ch, double limit) {
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  PairBounds p;
+  p.lo.resize(segs);
+  p.hi.resize(segs);
+  for (std::size_t s = 0; s < segs; ++s) {
+    const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+    // α − β = x_i − x_j + (a_i − b_j).
+    const double d = std::atan2(ch.sa[i], ch.ca[i]) - std::atan2(ch.sb[j], ch.cb[j]);
+    p.lo[s] = -limit - d;
+    p.hi[s] = limit - d;
+  }
+  return p;
+}
+
+/// Groups of nodes joined by active pair constraints: the reduced problem has one unknown per
+/// group (its nodes move together), and its Hessian stays (cyclic) tridiagonal.
+struct Groups {
+  std::vector<std::size_t> of;     ///< per node: its group
+  std::vector<std::size_t> first;  ///< per group: its first node (chain order)
+  std::vector<std::size_t> size;   ///< per group: its number of nodes
+  bool cyclic = false;             ///< the last group couples to the first (closed chain)
+};
+
+/// `link[s]` != 0: segment s's pair constraint is active. A closed chain with every link active
+/// keeps the last one inactive (one group would otherwise be over-determined).
+Groups make_groups(const Chain& ch, std::vector<signed char>& link) {
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  Groups g;
+  g.of.assign(k, 0);
+  std::size_t start = 0;
+  if (ch.closed) {
+    bool all = true;
+    for (std::size_t s = 0; s < segs; ++s) all = all && link[s] != 0;
+    if (all && segs > 0) link[segs - 1] = 0;
+    // Start after an inactive link so that no group wraps around.
+    for (std::size_t s = 0; s < segs; ++s) {
+      if (!link[s]) {
+        start = s + 1 == k ? 0 : s + 1;
+        break;
+      }
+    }
+  }
+  for (std::size_t c = 0; c < k; ++c) {
+    const std::size_t t = (start + c) % k;
+    const std::size_t prev = t == 0 ? k - 1 : t - 1;  // segment from prev to t
+    const bool joined = c > 0 && link[prev] != 0;
+    if (!joined) {
+      g.first.push_back(t);
+      g.size.push_back(0);
+    }
+    g.of[t] = g.first.size() - 1;
+    ++g.size.back();
+  }
+  g.cyclic = ch.closed && g.first.size() > 2;
+  return g;
+}
+
+/// The end angles of segment s at x.
+std::pair<double, double> segment_angles(const Chain& ch, std::span<const double> x,
+                                         std::size_t s) {
+  const std::size_t j = s + 1 == ch.node.size() ? 0 : s + 1;
+  return {x[s] + std::atan2(ch.sa[s], ch.ca[s]), x[j] + std::atan2(ch.sb[j], ch.cb[j])};
+}
+
+/// Past this turn a U-turn piece with both turns full exists on α = β (docs/methods/elastic.md).
+constexpr double kRidgeAngle = 98.5 * kPi / 180.0;
+
+/// On α = β beyond kRidgeAngle E_1 has a convex kink across the diagonal (a V in α − β): a
+/// nonsmooth minimum that Newton steps would cross back and forth. A segment there is locked
+/// at α = β (a link of state kRidge) while the force through it stays within the kink's
+/// subgradient.
+bool ridge_capable(double alpha, double beta) {
+  return std::min(std::abs(alpha), std::abs(beta)) > kRidgeAngle && alpha * beta > 0.0;
+}
+
+constexpr signed char kRidge = 2;
+/// How far a released ridge's start direction is moved off it (radians).
+constexpr double kRidgeStep = 1e-7;
+
+/// The largest residual (relative to the gradient's scale) the elastic basis reports as optimal
+/// to double precision when Newton steps no longer change the energy (docs/methods/elastic.md).
+constexpr double kElasticPrecision = 1e-6;
+
+/// Replaces the contributions of locked ridge segments by the symmetric (mean) gradient and
+/// Hessian at α = β (elastica_energy's value on the diagonal); returns per segment the half
+/// width c of the subgradient across the ridge (∂E/∂(α − β) jumps from −c to c), 0 elsewhere.
+void apply_ridges(const Chain& ch, std::span<const signed char> link, Evaluation& ev,
+                  std::vector<double>& half_jump) {
+  const std::size_t k = ch.node.size();
+  half_jump.assign(link.size(), 0.0);
+  for (std::size_t s = 0; s < link.size(); ++s) {
+    if (link[s] != kRidge) continue;
+    const std::size_t j = s + 1 == k ? 0 : s + 1;
+    const auto [alpha, beta] = segment_angles(ch, ch.x, s);
+    const double mid = 0.5 * (alpha + beta), w = ch.w[s];
+    const detail::ElasticaEnergy now = detail::elastica_energy(alpha, beta);
+    const detail::ElasticaEnergy on = detail::elastica_energy(mid, mid);
+    ev.g[s] += w * (on.ea - now.ea);
+    ev.g[j] += w * (on.eb - now.eb);
+    ev.d[s] += w * (on.eaa - now.eaa);
+    ev.d[j] += w * (on.ebb - now.ebb);
+    ev.e[s] += w * (on.eab - now.eab);
+    constexpr double kSide = 1e-7;
+    const detail::ElasticaEnergy off = detail::elastica_energy(mid + kSide, mid - kSide);
+    half_jump[s] = w * 0.5 * ((off.ea - off.eb) - (on.ea - on.eb));
+  }
+}
+
+/// Active-set Newton for the elastic basis from a feasible ch.x: boxes on each direction and
+/// the pair constraints. Each iteration solves the reduced (cyclic) tridiagonal system in
+/// O(n), moves to the first constraint on the way (ratio test) or takes an Armijo step, and,
+/// once stationary on the current face, releases the constraint whose multiplier has the
+/// wrong sign. The residual is the largest of the reduced gradient and the multipliers' sign
+/// violations, relative to the gradient's scale.
+ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gscale,
+                             const PairBounds& pb) {
+  const BasicCurveMethod& m = opt.method;
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  Evaluation ev, trial;
+  Scratch cs, work;
+  std::vector<double> xn(k), dir(k), dd, ee, rhs;
+  std::vector<signed char> box(k, 0), link(segs, 0);
+  const double tol = opt.tolerance;
+  auto pair_value = [&](std::span<const double> x, std::size_t s) {
+    return x[s] - x[s + 1 == k ? 0 : s + 1];
+  };
+  for (std::size_t t = 0; t < k; ++t) {
+    if (ch.fixed[t] || ch.x[t] <= ch.lo[t]) box[t] = -1;
+    if (!ch.fixed[t] && ch.x[t] >= ch.hi[t]) box[t] = 1;
+  }
+  for (std::size_t s = 0; s < segs; ++s) {
+    const double v = pair_value(ch.x, s);
+    if (v <= pb.lo[s]) link[s] = -1;
+    if (v >= pb.hi[s]) link[s] = 1;
+  }
+  std::vector<double> half_jump;
+  for (std::size_t s = 0; s < segs; ++s) {
+    const auto [alpha, beta] = segment_angles(ch, ch.x, s);
+    if (!link[s] && alpha == beta && ridge_capable(alpha, beta)) link[s] = kRidge;
+  }
+  // Every fresh evaluation gets the ridges' mean derivatives.
+  auto refresh = [&] {
+    const double e = evaluate(ch, m, ch.x, true, ev, cs);
+    apply_ridges(ch, link, ev, half_jump);
+    return e;
+  };
+  double energy = refresh();
+  ChainResult res;
+  int flat = 0;  // consecutive Newton steps that changed the energy by rounding only
+  std::size_t released_ridge = segs;
+  // A ridge released and locked again without the energy going down is kept: the estimate of
+  // its subgradient (a difference of one-sided gradients) is then not sharp enough to decide.
+  std::vector<int> ridge_releases(segs, 0);
+  double last_slope = 0.0;
+  if (!std::isfinite(energy)) return res;  // no feasible start (reported by the caller)
+  for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
+    const Groups g = make_groups(ch, link);
+    const std::size_t G = g.first.size();
+    // Reduced gradient, Hessian; a group with a bound or fixed node does not move.
+    std::vector<double> gg(G, 0.0), gd(G, 0.0), ge(G, 0.0);
+    std::vector<int> bound_nodes(G, 0);
+    for (std::size_t t = 0; t < k; ++t) {
+      gg[g.of[t]] += ev.g[t];
+      gd[g.of[t]] += ev.d[t];
+      if (box[t]) ++bound_nodes[g.of[t]];
+    }
+    for (std::size_t s = 0; s < segs; ++s) {
+      const std::size_t i = s, j = s + 1 == k ? 0 : s + 1, a = g.of[i], b = g.of[j];
+      if (a == b) {
+        gd[a] += 2.0 * ev.e[s];  // both ends move together
+      } else if ((a + 1) % G == b) {
+        ge[a] += ev.e[s];
+      } else {
+        ge[b] += ev.e[s];  // (G = 2, closed: both links couple the two groups)
+      }
+    }
+    double residual = 0.0;
+    for (std::size_t a = 0; a < G; ++a) {
+      if (!bound_nodes[a]) residual = std::max(residual, std::abs(gg[a]) / gscale);
+    }
+    // Multipliers once stationary on the face: the worst sign violation is released.
+    double worst = 0.0, worst_force = 0.0;
+    std::size_t worst_box = k, worst_link = segs;
+    if (residual <= tol) {
+      for (std::size_t t = 0; t < k; ++t) {
+        if (!box[t] || ch.fixed[t] || bound_nodes[g.of[t]] != 1) continue;
+        const double v = box[t] < 0 ? -gg[g.of[t]] : gg[g.of[t]];  // > 0: pulls inwards
+        if (v / gscale > worst) worst = v / gscale, worst_box = t, worst_link = segs;
+      }
+      for (std::size_t a = 0; a < G; ++a) {
+        // The force through link u (node u to u+1 of the group) balances the gradients on the
+        // side that holds no bound node: the prefix sum, or minus the suffix sum.
+        const std::size_t first = g.first[a], n = g.size[a];
+        std::size_t lo_b = n, hi_b = n;
+        for (std::size_t u = 0; u < n; ++u) {
+          if (!box[(first + u) % k]) continue;
+          if (lo_b == n) lo_b = u;
+          hi_b = u;
+        }
+        double total = 0.0;
+        for (std::size_t u = 0; u < n; ++u) total += ev.g[(first + u) % k];
+        double prefix = 0.0;
+        for (std::size_t u = 0; u + 1 < n; ++u) {
+          const std::size_t s = (first + u) % k;  // the segment from this node to the next
+          prefix += ev.g[s];
+          double force = 0.0;
+          if (lo_b == n || u < lo_b) {
+            force = prefix;
+          } else if (u >= hi_b) {
+            force = prefix - total;
+          } else {
+            continue;  // between two bound nodes: not determined
+          }
+          // At the upper bound the multiplier is −force (>= 0), at the lower bound +force; a
+          // ridge holds while |force| is within its subgradient.
+          if (link[s] == kRidge && ridge_releases[s] >= 2) continue;
+          const double v = link[s] == kRidge ? std::abs(force) - half_jump[s]
+                           : link[s] > 0     ? force
+                                             : -force;
+          if (v / gscale > worst) {
+            worst = v / gscale, worst_link = s, worst_box = k;
+            worst_force = force;
+          }
+        }
+      }
+      res.pg = std::max(residual, worst);
+      if (worst <= tol) {
+        res.converged = true;
+        return res;
+      }
+      if (worst_box < k) box[worst_box] = 0;
+      if (worst_link < segs) {
+        // A released ridge may be crossed by the next step: the force says the optimum lies
+        // beyond it, on the side the iterate (up to rounding) may not be on yet.
+        if (link[worst_link] == kRidge) {
+          released_ridge = worst_link;
+          ++ridge_releases[worst_link];
+          // Step off the ridge to the side where the energy goes down (first order: the force
+          // beyond the kink's half-jump), so that the next derivatives are that side's.
+          const std::size_t t = worst_link;
+          ch.x[t] =
+              std::clamp(ch.x[t] - std::copysign(kRidgeStep, worst_force), ch.lo[t], ch.hi[t]);
+        }
+        link[worst_link] = 0;
+      }
+      energy = refresh();
+      continue;
+    }
+    res.pg = residual;
+    // The elastic energy's derivatives come from root-finds: when Newton steps stop changing
+    // the energy, the decrease they predict (−g·d/2) is below its rounding and the residual is
+    // below kElasticPrecision, the tolerance is below what double precision allows here.
+    if (flat >= 3 && -0.5 * last_slope <= 1e-13 * std::abs(energy) &&
+        residual <= kElasticPrecision) {
+      res.at_precision = true;
+      return res;
+    }
+    if (res.iterations == opt.max_iterations) break;
+    // Reduced Newton step, shifted until positive definite.
+    dd.assign(G, 1.0);
+    ee.assign(G, 0.0);
+    rhs.assign(G, 0.0);
+    double tau = 0.0, dmax = 0.0;
+    for (double v : gd) dmax = std::max(dmax, std::abs(v));
+    for (int attempt = 0; attempt < 60; ++attempt) {
+      for (std::size_t a = 0; a < G; ++a) {
+        const bool fixed_a = bound_nodes[a] > 0, fixed_b = bound_nodes[(a + 1) % G] > 0;
+        dd[a] = fixed_a ? 1.0 : gd[a] + tau;
+        ee[a] = fixed_a || fixed_b ? 0.0 : ge[a];
+        rhs[a] = fixed_a ? 0.0 : -gg[a];
+      }
+      if (!g.cyclic && !(ch.closed && G == 2)) ee[G - 1] = 0.0;
+      if (ch.closed && G == 2) {
+        ee[0] = bound_nodes[0] || bound_nodes[1] ? 0.0 : ge[0] + ge[1];
+        ee[1] = 0.0;
+      }
+      if (G == 1) ee[0] = 0.0;
+      if (ldl_solve(dd, ee, g.cyclic, rhs, work)) break;
+      tau = tau == 0.0 ? 1e-10 * std::max(dmax, gscale) : 4.0 * tau;
+    }
+    for (std::size_t t = 0; t < k; ++t) dir[t] = rhs[g.of[t]];
+    // Ratio test: the first inactive constraint on the way.
+    double smax = 1.0;
+    std::size_t block_box = k, block_link = segs;
+    bool block_ridge = false;
+    for (std::size_t t = 0; t < k; ++t) {
+      if (box[t] || dir[t] == 0.0) continue;
+      const double room = dir[t] > 0.0 ? ch.hi[t] - ch.x[t] : ch.lo[t] - ch.x[t];
+      const double s = std::max(0.0, room / dir[t]);
+      if (s < smax) smax = s, block_box = t, block_link = segs;
+    }
+    for (std::size_t s = 0; s < segs; ++s) {
+      if (link[s]) continue;
+      const std::size_t j = s + 1 == k ? 0 : s + 1;
+      const double delta = dir[s] - dir[j];
+      if (delta == 0.0) continue;
+      const double v = pair_value(ch.x, s);
+      const double room = delta > 0.0 ? pb.hi[s] - v : pb.lo[s] - v;
+      const double step = std::max(0.0, room / delta);
+      if (step < smax) smax = step, block_link = s, block_box = k, block_ridge = false;
+      // Crossing the ridge α = β of a U-turn segment: stop on it.
+      const auto [alpha, beta] = segment_angles(ch, ch.x, s);
+      if (s != released_ridge && ridge_capable(alpha, beta) && (alpha - beta) * delta < 0.0) {
+        const double cross_at = -(alpha - beta) / delta;
+        if (cross_at < smax) smax = cross_at, block_link = s, block_box = k, block_ridge = true;
+      }
+    }
+    released_ridge = segs;
+    double slope = 0.0;
+    for (std::size_t t = 0; t < k; ++t) slope += ev.g[t] * dir[t];
+    last_slope = slope;
+    bool accepted = false;
+    bool blocked = false;
+    for (double step = smax; step > 1e-14 * smax && step > 0.0; step *= 0.5) {
+      for (std::size_t t = 0; t < k; ++t) {
+        xn[t] = std::clamp(ch.x[t] + step * dir[t], ch.lo[t], ch.hi[t]);
+      }
+      const double en = evaluate(ch, m, xn, true, trial, cs);
+      if (en <= energy + 1e-4 * step * slope || (step == 1.0 && en <= energy)) {
+        ch.x.swap(xn);
+        std::swap(ev, trial);
+        apply_ridges(ch, link, ev, half_jump);
+        flat = energy - en <= 1e-14 * std::abs(energy) ? flat + 1 : 0;
+        energy = en;
+        accepted = true;
+        blocked = step == smax && smax < 1.0;
+        break;
+      }
+    }
+    if (smax == 0.0) blocked = true;  // already on the blocking constraint
+    if (blocked) {
+      if (block_box < k) {
+        ch.x[block_box] = dir[block_box] > 0.0 ? ch.hi[block_box] : ch.lo[block_box];
+        box[block_box] = dir[block_box] > 0.0 ? 1 : -1;
+        energy = refresh();
+      }
+      if (block_link < segs) {
+        const std::size_t j = block_link + 1 == k ? 0 : block_link + 1;
+        link[block_link] = block_ridge ? kRidge : dir[block_link] - dir[j] > 0.0 ? 1 : -1;
+        if (block_ridge) energy = refresh();
+      }
+      continue;
+    }
+    if (!accepted) break;  // no descent at this precision
+  }
+  return res;
+}
+
+/// The elastic basis on one chain: first the restricted elastic spline (boxes |α|, |β| <= 90°,
+/// where every pair is feasible; a clamped neighbour's pair becomes a box), then the
+/// active-set Newton on the whole s-curve domain from there. The unrestricted energy has
+/// start-dependent local minima: this returns the one reached from the restricted optimum.
+ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale) {
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  const PairBounds pb = pair_bounds(ch, kPi * (1.0 - 1e-12));
+  Chain start = ch;
+  for (std::size_t t = 0; t < k; ++t) {
+    if (ch.fixed[t]) continue;
+    const double a = std::atan2(ch.sa[t], ch.ca[t]), b = std::atan2(ch.sb[t], ch.cb[t]);
+    // (1e-6 inside the box: its corners (±90°, ∓90°) sit on the pair bound |α − β| = 180°,
+    // where the second derivatives do not exist.)
+    constexpr double kHalf = kPi / 2.0 - 1e-6;
+    double lo = std::max({ch.lo[t], -kHalf - a, -kHalf - b});
+    double hi = std::min({ch.hi[t], kHalf - a, kHalf - b});
+    // A clamped neighbour: its pair constraint bounds this direction alone.
+    const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
+    const std::size_t next = t + 1 == k ? 0 : t + 1, prev = t == 0 ? k - 1 : t - 1;
+    if (has_next && ch.fixed[next]) {  // lo <= x_t − x_next <= hi (segment t)
+      lo = std::max(lo, pb.lo[t] + ch.x[next]);
+      hi = std::min(hi, pb.hi[t] + ch.x[next]);
+    }
+    if (has_prev && ch.fixed[prev]) {  // segment prev: lo <= x_prev − x_t <= hi
+      lo = std::max(lo, ch.x[prev] - pb.hi[prev]);
+      hi = std::min(hi, ch.x[prev] - pb.lo[prev]);
+    }
+    if (!(lo <= hi)) lo = ch.lo[t], hi = ch.hi[t];
+    start.lo[t] = lo;
+    start.hi[t] = hi;
+    start.x[t] = std::clamp(0.0, lo, hi);
+  }
+  (void)segs;
+  MinEnergyOptions restricted = opt;
+  restricted.method.basis = MinEnergyBasis::kRestrictedElastic;
+  const ChainResult first = optimize(start, restricted, gscale);
+  ch.x = start.x;
+  MinEnergyOptions rest = opt;  // the iteration cap bounds both phases together
+  rest.max_iterations = std::max(0, opt.max_iterations - first.iterations);
+  ChainResult r = optimize_coupled(ch, rest, gscale, pb);
+  r.iterations += first.iterations;
+  return r;
 }
 
 std::string sci(double v) {
@@ -637,11 +1067,78 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   return chains;
 }
 
-constexpr detail::ChoiceTable<MinEnergyBasis, 4> kBasis{
+/// The exact elastic piece of one span and its Béziers within accuracy·|p1 − p0| (at least
+/// 1e-12 of it, the approximation's floor).
+std::vector<CubicBezier> elastic_span(Point p0, Point p1, double alpha, double beta,
+                                      double accuracy, ElasticSpan& span) {
+  const detail::ElasticaArc arc = detail::elastica_arc(p0, p1, alpha, beta);
+  using Kind = detail::ElasticaArc::Kind;
+  span = {.kind = arc.kind == Kind::kStraight   ? "straight"
+                  : arc.kind == Kind::kElastica ? "elastica"
+                                                : "u-turn",
+          .alpha = alpha,
+          .beta = beta,
+          .u0 = arc.u0,
+          .u1 = arc.u1,
+          .straight = arc.segment,
+          .reversed = arc.reversed,
+          .mirrored = arc.mirrored,
+          .energy = arc.energy(),
+          .length = arc.length(),
+          .beziers = 0};
+  std::vector<CubicBezier> pieces = detail::elastica_to_beziers(arc, std::max(accuracy, 1e-12));
+  span.beziers = static_cast<int>(pieces.size());
+  return pieces;
+}
+
+/// Segments from the spans' Béziers, in span order; a span's knot interval is split in
+/// proportion to the pieces' arc lengths (their control-polygon lengths, a close proxy).
+void assemble_spans(const std::vector<std::vector<CubicBezier>>& pieces, FitResult& out) {
+  out.spline.segments.clear();
+  for (std::size_t s = 0; s < pieces.size(); ++s) {
+    const double t0 = out.knots[s], t1 = out.knots[s + 1];
+    double total = 0.0;
+    std::vector<double> len(pieces[s].size());
+    for (std::size_t q = 0; q < pieces[s].size(); ++q) {
+      const CubicBezier& b = pieces[s][q];
+      len[q] = distance(b.p[0], b.p[1]) + distance(b.p[1], b.p[2]) + distance(b.p[2], b.p[3]);
+      total += len[q];
+    }
+    double acc = 0.0;
+    for (std::size_t q = 0; q < pieces[s].size(); ++q) {
+      const double a = t0 + (t1 - t0) * (acc / total);
+      acc += len[q];
+      const double b = q + 1 == pieces[s].size() ? t1 : t0 + (t1 - t0) * (acc / total);
+      out.spline.segments.push_back({pieces[s][q], a, b, s});
+    }
+  }
+}
+
+nlohmann::json spans_json(const std::vector<ElasticSpan>& spans) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const ElasticSpan& s : spans) {
+    a.push_back({{"kind", s.kind},
+                 {"alpha_deg", s.alpha * 180.0 / kPi},
+                 {"beta_deg", s.beta * 180.0 / kPi},
+                 {"u0", s.u0},
+                 {"u1", s.u1},
+                 {"straight", s.straight},
+                 {"reversed", s.reversed},
+                 {"mirrored", s.mirrored},
+                 {"energy", s.energy},
+                 {"length", s.length},
+                 {"beziers", s.beziers}});
+  }
+  return a;
+}
+
+constexpr detail::ChoiceTable<MinEnergyBasis, 6> kBasis{
     {{"quasi-elastic", MinEnergyBasis::kCondG2},
      {"cond-g2", MinEnergyBasis::kCondG2},
      {"jaklic-zagar", MinEnergyBasis::kJaklicZagar},
-     {"yong-cheng", MinEnergyBasis::kYongCheng}}};
+     {"yong-cheng", MinEnergyBasis::kYongCheng},
+     {"restricted-elastic", MinEnergyBasis::kRestrictedElastic},
+     {"elastic", MinEnergyBasis::kElastic}}};
 
 // Corners split the curve into independent chains (Remark 2.4).
 const Capabilities& min_energy_capabilities() {
@@ -661,7 +1158,11 @@ const Capabilities& min_energy_capabilities() {
 void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
                     FitResult& out, MinEnergyReport* report) {
   const BasicCurveMethod& m = options.method;
-  if (!(m.omega > 0.0 && m.omega <= kPi / 2.0 + 1e-12)) {
+  if (m.basis == MinEnergyBasis::kElastic) {
+    if (!(m.omega > 0.0 && m.omega <= kPi + 1e-12)) {
+      throw Error(ErrorCode::kBadOption, "elastic: omega_deg must lie in (0, 180]");
+    }
+  } else if (!(m.omega > 0.0 && m.omega <= kPi / 2.0 + 1e-12)) {
     throw Error(ErrorCode::kBadOption, "min-energy: omega_deg must lie in (0, 90]");
   }
   if (m.basis == MinEnergyBasis::kCondG2 && !(m.lambda > 0.0 && m.lambda < 3.0)) {
@@ -679,16 +1180,33 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   }
   detail::prepare_input(input, min_energy_capabilities(), "min-energy", out);
   const std::size_t n = out.points.size();
-  std::vector<Chain> chains = build_chains(out, input, m.omega);
+  // The elastic domain is open at 180°: the boxes stop 1e-12 short of it.
+  const double omega =
+      m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPi * (1.0 - 1e-12)) : m.omega;
+  std::vector<Chain> chains = build_chains(out, input, omega);
+  const bool elastic = is_elastic(m.basis);
+  // Elastic bases: the Béziers of each span, assembled in span order at the end.
+  std::vector<std::vector<CubicBezier>> span_pieces(elastic ? (out.closed ? n : n - 1) : 0);
 
   MinEnergyReport rep;
-  bool converged = true;
+  bool converged = true, at_precision = false;
   rep.pieces = static_cast<int>(chains.size());
   const std::size_t segs = out.closed ? n : n - 1;
   out.spline.closed = out.closed;
   out.spline.segments.resize(segs);
   out.tangents.resize(n);
   std::vector<Vec2> u;  // unit direction per chain node
+  // Elastic bases: the Béziers' tolerance, relative to the data's size.
+  double tolerance = 0.0;
+  if (elastic) {
+    rep.spans.resize(segs);
+    Point lo = out.points[0], hi = out.points[0];
+    for (const Point& p : out.points) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    tolerance = options.accuracy * std::hypot(hi.x - lo.x, hi.y - lo.y);
+  }
   for (Chain& ch : chains) {
     // The weights are 1/length: divide them by a power of two near the largest (exact) so that
     // the Newton system, its shifts and the step bounds see O(1) numbers for data at any scale
@@ -700,12 +1218,16 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     // and ilogb(0) is INT_MIN; found by fuzz_fit under UBSan. The fit then fails cleanly.)
     const int wexp = std::isnormal(wmax) ? std::ilogb(wmax) : 0;
     for (double& w : ch.w) w = std::scalbn(w, -wexp);
-    const ChainResult r = optimize(ch, options, std::scalbn(wmax, -wexp));
+    const double gscale = std::scalbn(wmax, -wexp);
+    const ChainResult r = m.basis == MinEnergyBasis::kElastic
+                              ? optimize_elastic(ch, options, gscale)
+                              : optimize(ch, options, gscale);
     for (double& w : ch.w) w = std::scalbn(w, wexp);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
-    converged = converged && r.converged;
-    if (!r.converged && !options.best_effort) {
+    converged = converged && (r.converged || r.at_precision);
+    at_precision = at_precision || r.at_precision;
+    if (!r.converged && !r.at_precision && !options.best_effort) {
       throw Error(ErrorCode::kNotConverged,
                   "min-energy: the projected Newton method stopped after " +
                       std::to_string(r.iterations) + " iterations with projected gradient " +
@@ -735,6 +1257,21 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       const double L = 1.0 / ch.w[s];
       const Vec2 c = (p1 - p0) * ch.w[s];
       const double ca = dot(u[i], c), sa = cross(c, u[i]), cb = dot(u[j], c), sb = cross(c, u[j]);
+      if (elastic) {
+        // Relative to the chord; data too large for a finite diagonal: the accuracy itself.
+        double relative = tolerance / norm(p1 - p0);
+        if (!(relative >= options.accuracy) || !std::isfinite(relative)) {
+          relative = options.accuracy;
+        }
+        span_pieces[seg] =
+            elastic_span(p0, p1, std::atan2(sa, ca), std::atan2(sb, cb), relative, rep.spans[seg]);
+        rep.energy += rep.spans[seg].energy;
+        if (m.basis == MinEnergyBasis::kElastic &&
+            std::abs(rep.spans[seg].alpha - rep.spans[seg].beta) >= kPi * (1.0 - 1e-9)) {
+          rep.active_spans.push_back(seg);
+        }
+        continue;
+      }
       rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
       const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
       out.spline.segments[seg] = {
@@ -745,23 +1282,39 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     }
   }
   std::sort(rep.active.begin(), rep.active.end());
+  if (elastic) assemble_spans(span_pieces, out);
 
-  out.solver =
-      SolverReport{.status = converged ? SolverStatus::kConverged : SolverStatus::kIterationLimit,
-                   .iterations = rep.iterations,
-                   .residual = rep.projected_gradient,
-                   .tolerance = options.tolerance,
-                   .active = rep.active};
+  out.solver = SolverReport{.status = !converged     ? SolverStatus::kIterationLimit
+                                      : at_precision ? SolverStatus::kConditioningLimit
+                                                     : SolverStatus::kConverged,
+                            .iterations = rep.iterations,
+                            .residual = rep.projected_gradient,
+                            .tolerance = options.tolerance,
+                            .active = rep.active};
   out.method_report = {{"iterations", rep.iterations},
                        {"energy", rep.energy},
                        {"projected_gradient", rep.projected_gradient},
-                       {"status", converged ? "converged" : "iteration_limit"},
+                       {"status", !converged     ? "iteration_limit"
+                                  : at_precision ? "conditioning_limit"
+                                                 : "converged"},
                        {"pieces", rep.pieces}};
   if (level != ReportLevel::kNone) {
     out.method_report["active"] = rep.active;
     out.method_report["omega_deg"] = m.omega * 180.0 / kPi;
+    if (elastic) {
+      out.method_report["bezier_accuracy"] = options.accuracy;
+      out.method_report["spans"] = spans_json(rep.spans);
+      std::sort(rep.active_spans.begin(), rep.active_spans.end());
+      out.method_report["active_spans"] = rep.active_spans;
+    }
   }
   if (report) *report = std::move(rep);
+}
+
+std::vector<CubicBezier> basic_curve_pieces(const BasicCurveMethod& method, Point p0, Point p1,
+                                            double alpha, double beta, double accuracy) {
+  if (!is_elastic(method.basis)) return {basic_curve(method, p0, p1, alpha, beta)};
+  return detail::elastica_to_beziers(detail::elastica_arc(p0, p1, alpha, beta), accuracy);
 }
 
 namespace {
@@ -865,7 +1418,8 @@ std::vector<MethodInfo> min_energy_methods() {
                      .choices = kBasis.names(),
                      .doc = "basic curve method: quasi-elastic (conditionally G2 cubic, lambda = "
                             "1), cond-g2 (shape parameter lambda), jaklic-zagar (Example 4.2), "
-                            "yong-cheng (OGH cubic, Example 4.1)"},
+                            "yong-cheng (OGH cubic, Example 4.1), restricted-elastic and elastic "
+                            "(the exact s-curves of least bending energy, methods of their own)"},
                     {.name = "lambda",
                      .type = OptionType::kNumber,
                      .default_value = 1.0,
@@ -877,10 +1431,11 @@ std::vector<MethodInfo> min_energy_methods() {
                      .type = OptionType::kNumber,
                      .default_value = nullptr,
                      .min = 0.0,
-                     .max = 90.0,
+                     .max = 180.0,
                      .doc = "feasibility bound Ω in degrees: |α|, |β| <= Ω at every chord; "
-                            "default 90 (quasi-elastic, cond-g2), 80 (jaklic-zagar), 60 "
-                            "(yong-cheng)"},
+                            "default 90 (quasi-elastic, cond-g2, restricted-elastic), 80 "
+                            "(jaklic-zagar), 60 (yong-cheng), 180 (elastic, the only basis "
+                            "beyond 90)"},
                     {.name = "max_iterations",
                      .type = OptionType::kInteger,
                      .default_value = 200,
@@ -903,6 +1458,7 @@ std::vector<MethodInfo> min_energy_methods() {
                                      : BasicCurveMethod::default_omega(opt.method.basis);
               opt.max_iterations = o.at("max_iterations").get<int>();
               opt.best_effort = f.best_effort;
+              opt.accuracy = f.curve_accuracy();
               fit_min_energy(in, opt, f.level, out);
             },
         .capabilities = min_energy_capabilities(),

@@ -97,6 +97,10 @@ nlohmann::json options_of(const BasicCurveMethod& m) {
       return {{"basis", "jaklic-zagar"}, {"omega_deg", m.omega / kDeg}};
     case MinEnergyBasis::kYongCheng:
       return {{"basis", "yong-cheng"}, {"omega_deg", m.omega / kDeg}};
+    case MinEnergyBasis::kRestrictedElastic:
+      return {{"basis", "restricted-elastic"}, {"omega_deg", m.omega / kDeg}};
+    case MinEnergyBasis::kElastic:
+      return {{"basis", "elastic"}, {"omega_deg", m.omega / kDeg}};
   }
   return {};
 }
@@ -947,7 +951,7 @@ TEST(MinEnergyFit, Errors) {
                  (void)fit("min-energy", ok, {{"basis", "jaklic-zagar"}, {"omega_deg", 90}});
                },
                {"jaklic-zagar"});
-  expect_error(ErrorCode::kBadOption, [&] { (void)fit("min-energy", ok, {{"basis", "elastic"}}); });
+  expect_error(ErrorCode::kBadOption, [&] { (void)fit("min-energy", ok, {{"basis", "spiro"}}); });
   expect_error(ErrorCode::kUnknownOption, [&] { (void)fit("quasi-elastic", ok, {{"omega", 10}}); });
   MinEnergyOptions wide;
   wide.method = cond_g2(1.0, 2.0);

@@ -9,6 +9,9 @@ await run(async ({ page, url }) => {
   await page.waitForSelector('[data-testid="method"] option', { state: 'attached' });
   const method = await page.$eval('[data-testid="method"]', (s) => s.value);
   check(method === 'quasi-elastic', `default method selected (${method})`);
+  const listed = await page.$$eval('[data-testid="method"] option', (os) => os.map((o) => o.value));
+  check(listed[0] === 'quasi-elastic' && listed[1] === 'restricted-elastic' && listed[2] === 'elastic',
+    `the default, then the elastic splines, lead the method list (${listed.slice(0, 3)})`);
 
   // Add five points by clicking on the canvas.
   const canvas = page.locator('[data-testid="canvas"]');

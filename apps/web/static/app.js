@@ -398,9 +398,25 @@ function buildOptionsForm() {
   }
 }
 
+/**
+ * The methods as the editor lists them: the library's default first, then the elastic splines
+ * (the curves of least bending energy, Curve Ensemble's default), then the rest in registry order.
+ */
+const FEATURED = ['restricted-elastic', 'elastic'];
+function methodsInOrder() {
+  const rank = (m) => (m.name === schema.default ? 0 : FEATURED.includes(m.name) ? 1 : 2);
+  return [...schema.methods].sort((a, b) => rank(a) - rank(b));
+}
+function methodLabel(m) {
+  if (m.name === schema.default) return `${m.name} (default)`;
+  if (m.name === 'restricted-elastic') return `${m.name} (least bending energy; Curve Ensemble's default)`;
+  if (m.name === 'elastic') return `${m.name} (least bending energy, U-turns allowed)`;
+  return m.name;
+}
+
 function buildEnsemble() {
   el.ensemble.replaceChildren();
-  for (const m of schema.methods) {
+  for (const m of methodsInOrder()) {
     const label = document.createElement('label');
     label.title = m.description;
     const box = document.createElement('input');
@@ -1149,8 +1165,8 @@ async function start() {
     return;
   }
   if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
-  for (const m of schema.methods) {
-    el.method.add(new Option(m.name, m.name));
+  for (const m of methodsInOrder()) {
+    el.method.add(new Option(methodLabel(m), m.name));
     $('method-names').append(new Option(m.name));
   }
   el.method.value = state.method;

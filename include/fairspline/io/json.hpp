@@ -23,7 +23,7 @@ struct ParsedInput {
   /// FitOptions at `level` with the request's accuracy and best_effort where it gives them.
   FitOptions fit_options(ReportLevel level) const {
     return {.level = level,
-            .accuracy = accuracy.value_or(FitOptions::kDefaultAccuracy),
+            .accuracy = accuracy,
             .best_effort = best_effort.value_or(false)};
   }
 };

@@ -24,7 +24,19 @@ enum class MinEnergyBasis {
   kCondG2,  ///< conditionally G2 cubic, speeds s0 = s1 = λ (Theorem 4.4); λ = 1: quasi-elastic
   kJaklicZagar,  ///< s0 = cos α, s1 = cos β, E_1 = sin²α + sin²β (Example 4.2)
   kYongCheng,    ///< optimized geometric Hermite speeds, E_1 = ∫|c''|² (Example 4.1)
+  /// The exact s-curve of least ∫κ² ds (a piece of the rectangular elastica; Borbély–Johnson),
+  /// restricted to |α|, |β| <= Ω <= 90° (Curve Ensemble's default). Not a cubic: each piece is
+  /// output as cubic Béziers within MinEnergyOptions::accuracy. docs/methods/elastic.md.
+  kRestrictedElastic,
+  /// The same curve on the whole s-curve domain |α|, |β| < 180°, |α − β| <= 180° (coupled
+  /// constraints between neighbouring directions).
+  kElastic,
 };
+
+/// True for the bases whose basic curve is not a cubic (the elastic splines).
+constexpr bool is_elastic(MinEnergyBasis basis) {
+  return basis == MinEnergyBasis::kRestrictedElastic || basis == MinEnergyBasis::kElastic;
+}
 
 /// A basic curve method with its parameters.
 struct BasicCurveMethod {
@@ -32,8 +44,8 @@ struct BasicCurveMethod {
   double lambda = 1.0;                ///< shape parameter of kCondG2, in (0, 3)
   double omega = 1.5707963267948966;  ///< Ω (radians): feasible |α|, |β| ≤ Ω
 
-  /// The default Ω of each basis: 90° (cond-G2, quasi-elastic), 80° (Jaklič–Žagar, as in
-  /// Fig. 7), 60° (Yong–Cheng).
+  /// The default Ω of each basis: 90° (cond-G2, quasi-elastic, restricted elastic), 80°
+  /// (Jaklič–Žagar, as in Fig. 7), 60° (Yong–Cheng), 180° (elastic).
   static double default_omega(MinEnergyBasis basis);
 };
 
@@ -56,8 +68,15 @@ struct BasicSpeeds {
 BasicSpeeds basic_speeds(const BasicCurveMethod& method, double alpha, double beta);
 
 /// The basic curve c_L(α, β) from p0 to p1 as a Bézier cubic (α, β measured from the chord).
+/// The elastic bases have no cubic basic curve: Error(kInvalidArgument), see basic_curve_pieces.
 CubicBezier basic_curve(const BasicCurveMethod& method, Point p0, Point p1, double alpha,
                         double beta);
+
+/// The basic curve as cubic Béziers: the cubic itself, or for the elastic bases the exact piece
+/// approximated within accuracy·|p1 − p0| (Hausdorff distance), G1, end points and end
+/// directions exact.
+std::vector<CubicBezier> basic_curve_pieces(const BasicCurveMethod& method, Point p0, Point p1,
+                                            double alpha, double beta, double accuracy);
 
 /// Options of the minimal-energy fit.
 struct MinEnergyOptions {
@@ -69,6 +88,21 @@ struct MinEnergyOptions {
   /// At the iteration cap, return the curve with SolverStatus::kIterationLimit (FitResult::solver)
   /// instead of throwing Error(kNotConverged).
   bool best_effort = false;
+  /// Elastic bases: the output Béziers are within accuracy·(diagonal of the points' bounding
+  /// box) of the exact pieces (Hausdorff distance).
+  double accuracy = FitOptions::kDefaultCurveAccuracy;
+};
+
+/// One span of an elastic spline: the exact piece (method_report "spans").
+struct ElasticSpan {
+  std::string kind;                ///< "straight" | "elastica" | "u-turn"
+  double alpha = 0.0, beta = 0.0;  ///< end angles from the chord (radians)
+  double u0 = 0.0, u1 = 0.0;       ///< canonical parameter range (docs/methods/elastic.md)
+  double straight = 0.0;           ///< u-turn: canonical length of the straight part
+  bool reversed = false, mirrored = false;
+  double energy = 0.0;  ///< ∫κ² ds of the exact piece
+  double length = 0.0;  ///< its arc length
+  int beziers = 0;      ///< cubic pieces in the output
 };
 
 /// Outcome of the optimizer (also in FitResult::method_report).
@@ -78,6 +112,9 @@ struct MinEnergyReport {
   double projected_gradient = 0.0;  ///< final, relative (see MinEnergyOptions::tolerance)
   std::vector<std::size_t> active;  ///< points whose direction sits on a bound of D_i
   int pieces = 1;                   ///< independent pieces (split at corners)
+  std::vector<ElasticSpan> spans;   ///< elastic bases only, one per span
+  /// elastic basis: spans whose |α − β| sits at its bound 180° (a coupled constraint)
+  std::vector<std::size_t> active_spans;
 };
 
 /// The minimal-energy curve through input.points (open or closed; clamped ends via

@@ -1,0 +1,327 @@
+// Elastic splines (restricted-elastic, elastic): the spline-level claims of
+// docs/methods/elastic.md. The basic curve itself is tested in tests/elastica_test.cpp.
+#include "fairspline/methods/elastic.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "detail/elastica.hpp"
+#include "fairspline/error.hpp"
+#include "fairspline/methods/min_energy.hpp"
+#include "fairspline/registry.hpp"
+#include "test_util.hpp"
+
+namespace fairspline {
+namespace {
+
+using testing::expect_error;
+using testing::random_walk;
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+FitInput input_of(std::vector<Point> p, bool closed = false) {
+  FitInput in;
+  in.points = std::move(p);
+  in.closed = closed;
+  return in;
+}
+
+double exact_energy(const FitResult& r) {
+  return r.method_report.at("energy").get<double>();
+}
+
+/// Signed angle from u to v.
+double angle(Vec2 u, Vec2 v) {
+  return std::atan2(cross(u, v), dot(u, v));
+}
+
+/// The exact pieces of a fit, rebuilt from its points and tangents.
+std::vector<detail::ElasticaArc> arcs_of(const FitResult& r) {
+  const std::size_t n = r.points.size(), spans = r.closed ? n : n - 1;
+  std::vector<detail::ElasticaArc> arcs;
+  for (std::size_t i = 0; i < spans; ++i) {
+    const std::size_t j = i + 1 == n ? 0 : i + 1;
+    const Vec2 c = r.points[j] - r.points[i];
+    arcs.push_back(detail::elastica_arc(r.points[i], r.points[j], angle(c, r.tangents[i]),
+                                        angle(c, r.tangents[j])));
+  }
+  return arcs;
+}
+
+double bbox_diagonal(const std::vector<Point>& p) {
+  double x0 = p[0].x, x1 = p[0].x, y0 = p[0].y, y1 = p[0].y;
+  for (const Point& q : p) {
+    x0 = std::min(x0, q.x), x1 = std::max(x1, q.x);
+    y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
+  }
+  return std::hypot(x1 - x0, y1 - y0);
+}
+
+TEST(ElasticSpline, CollinearDataHasZeroEnergyAndStraightPieces) {
+  for (const char* method : {"restricted-elastic", "elastic"}) {
+    const FitResult r = fit(method, input_of({{0, 0}, {1, 0.5}, {3, 1.5}, {3.5, 1.75}, {7, 3.5}}));
+    EXPECT_EQ(exact_energy(r), 0.0) << method;
+    EXPECT_LT(*r.report->bending_energy, 1e-20);
+    EXPECT_EQ(r.spline.segments.size(), 4u);  // one straight cubic per span
+    for (const auto& span : r.method_report.at("spans")) EXPECT_EQ(span.at("kind"), "straight");
+  }
+}
+
+TEST(ElasticSpline, EnergyIsNotAboveTheBruteForceReference) {
+  // Curve Ensemble's optimizer (coordinate search over 360 one-degree candidates, then 10
+  // refinement levels) on the same energy: Newton must reach at least its value.
+  for (std::uint64_t seed = 0; seed < 6; ++seed) {
+    for (bool closed : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "seed " << seed << (closed ? " closed" : ""));
+      const FitInput in = input_of(random_walk(7, seed, 80), closed);
+      MinEnergyOptions o;
+      o.method = {MinEnergyBasis::kRestrictedElastic, 1.0, kPi / 2};
+      const MinEnergyReference ref = min_energy_reference(in, o);
+      const FitResult r = fit("restricted-elastic", in, {}, ReportLevel::kNone);
+      EXPECT_LE(exact_energy(r), ref.energy * (1.0 + 1e-10));
+      EXPECT_NEAR(exact_energy(r), ref.energy, 1e-6 * ref.energy);  // same minimum
+    }
+  }
+}
+
+TEST(ElasticSpline, G2AtEveryNodeWithoutAnActiveBound) {
+  for (std::uint64_t seed = 0; seed < 10; ++seed) {
+    for (const char* method : {"restricted-elastic", "elastic"}) {
+      SCOPED_TRACE(std::string(method) + " seed " + std::to_string(seed));
+      const FitResult r = fit(method, input_of(random_walk(12, seed, 100)));
+      ASSERT_NE(r.solver->status, SolverStatus::kIterationLimit);
+      const std::vector<detail::ElasticaArc> arcs = arcs_of(r);
+      const auto& active = r.solver->active;
+      for (std::size_t i = 1; i + 1 < r.points.size(); ++i) {
+        if (std::find(active.begin(), active.end(), i) != active.end()) continue;
+        const detail::ElasticaArc &left = arcs[i - 1], &right = arcs[i];
+        // A U-turn piece's inflection end is held by its 180° turn, not free (elastic.md).
+        if (left.kind == detail::ElasticaArc::Kind::kUTurn ||
+            right.kind == detail::ElasticaArc::Kind::kUTurn)
+          continue;
+        const double k0 = left.curvature(1.0), k1 = right.curvature(0.0);
+        EXPECT_NEAR(k0, k1, 1e-8 * std::max({1.0, std::abs(k0), std::abs(k1)})) << "node " << i;
+      }
+      // The exact energy is the sum of the pieces', and the Béziers' energy agrees with it.
+      double sum = 0.0;
+      for (const auto& a : arcs) sum += a.energy();
+      EXPECT_NEAR(sum, exact_energy(r), 1e-9 * sum);
+      EXPECT_NEAR(*r.report->bending_energy, sum, 1e-4 * sum);
+      EXPECT_TRUE(r.report->regular);
+      for (const SegmentReport& s : r.report->segments) {
+        EXPECT_FALSE(s.has_loop || s.has_cusp || s.has_fold);
+      }
+    }
+  }
+}
+
+TEST(ElasticSpline, BeziersAreWithinTheAccuracyOfTheExactPieces) {
+  const FitInput in = input_of(random_walk(9, 11, 100));
+  for (double accuracy : {1e-3, 1e-6, 1e-9}) {
+    SCOPED_TRACE(accuracy);
+    const FitResult r = fit("restricted-elastic", in, {},
+                            FitOptions{.level = ReportLevel::kBasic, .accuracy = accuracy});
+    const double tol = accuracy * bbox_diagonal(r.points);
+    const std::vector<detail::ElasticaArc> arcs = arcs_of(r);
+    for (std::size_t span = 0; span < arcs.size(); ++span) {
+      // Every point of the exact piece is within tol of the Béziers of its span: the nearest
+      // of 100 samples per cubic, polished by Newton on the squared distance.
+      double worst = 0.0;
+      for (int s = 0; s <= 300; ++s) {
+        const Point q = arcs[span].point(s / 300.0);
+        double best = std::numeric_limits<double>::infinity();
+        for (const Segment& g : r.spline.segments) {
+          if (g.span != span) continue;
+          double t = 0.0, d = std::numeric_limits<double>::infinity();
+          for (int i = 0; i <= 100; ++i) {
+            const double e = distance(g.bezier.eval(i / 100.0), q);
+            if (e < d) d = e, t = i / 100.0;
+          }
+          for (int it = 0; it < 8; ++it) {
+            const Vec2 e = g.bezier.eval(t) - q, d1 = g.bezier.d1(t), d2 = g.bezier.d2(t);
+            const double den = dot(d1, d1) + dot(e, d2);
+            if (!(den > 0.0)) break;
+            t = std::clamp(t - dot(e, d1) / den, 0.0, 1.0);
+          }
+          best = std::min({best, d, distance(g.bezier.eval(t), q)});
+        }
+        worst = std::max(worst, best);
+      }
+      EXPECT_LE(worst, tol * (1.0 + 1e-6) + 1e-14 * bbox_diagonal(r.points)) << "span " << span;
+    }
+    if (accuracy <= 1e-6) {
+      EXPECT_NEAR(*fit("restricted-elastic", in, {}, FitOptions{.accuracy = accuracy})
+                       .report->bending_energy,
+                  exact_energy(r), 1e3 * accuracy * exact_energy(r));
+    }
+    // Interpolation: every input point is a segment end exactly.
+    for (std::size_t i = 0; i + 1 < r.points.size(); ++i) {
+      bool found = false;
+      for (const Segment& g : r.spline.segments) found = found || g.bezier.p[0] == r.points[i];
+      EXPECT_TRUE(found) << i;
+    }
+  }
+}
+
+TEST(ElasticSpline, SimilarityAndReversal) {
+  const std::vector<Point> p = random_walk(10, 5, 90);
+  for (const char* method : {"restricted-elastic", "elastic"}) {
+    SCOPED_TRACE(method);
+    const FitResult base = fit(method, input_of(p), {}, ReportLevel::kNone);
+    // Rotation, scale 3.5, translation: energy ∝ 1/scale.
+    std::vector<Point> q;
+    const Vec2 rot = from_angle(0.7);
+    for (const Point& a : p)
+      q.push_back(Point{12.0, -4.0} +
+                  3.5 * Vec2{a.x * rot.x - a.y * rot.y, a.x * rot.y + a.y * rot.x});
+    const FitResult moved = fit(method, input_of(q), {}, ReportLevel::kNone);
+    EXPECT_NEAR(exact_energy(moved) * 3.5, exact_energy(base), 1e-9 * exact_energy(base));
+    // Mirror image and reversal: the same energy.
+    std::vector<Point> m;
+    for (const Point& a : p) m.push_back({-a.x, a.y});
+    EXPECT_NEAR(exact_energy(fit(method, input_of(m), {}, ReportLevel::kNone)), exact_energy(base),
+                1e-9 * exact_energy(base));
+    std::vector<Point> rev(p.rbegin(), p.rend());
+    const FitResult back = fit(method, input_of(rev), {}, ReportLevel::kNone);
+    EXPECT_NEAR(exact_energy(back), exact_energy(base), 1e-9 * exact_energy(base));
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      EXPECT_LT(norm(back.tangents[p.size() - 1 - i] + base.tangents[i]), 1e-7) << i;
+    }
+  }
+}
+
+/// True when the cubic is an s-curve: at most one inflection and a total turn below 180°
+/// (sampled; the test uses it to pick the spans where the comparison applies).
+bool is_s_curve(const CubicBezier& b) {
+  int changes = 0;
+  double previous = 0.0, turn = 0.0;
+  Vec2 last = b.d1(0.0);
+  for (int i = 0; i <= 400; ++i) {
+    const double t = i / 400.0;
+    const double k = cross(b.d1(t), b.d2(t));
+    if (k != 0.0 && previous != 0.0 && (k > 0.0) != (previous > 0.0)) ++changes;
+    if (k != 0.0) previous = k;
+    const Vec2 d = b.d1(t);
+    turn += std::abs(angle(last, d));
+    last = d;
+  }
+  return changes <= 1 && turn < kPi;
+}
+
+TEST(ElasticSpline, NeverAboveQuasiElasticWhereItsPiecesAreAdmissible) {
+  // The restricted elastic spline minimizes ∫κ² ds over interpolants whose pieces are s-curves
+  // with |α|, |β| <= 90°. Quasi-elastic's curve is such an interpolant whenever each of its cubics
+  // is an s-curve (its angles are within 90° by construction): then its bending energy is at
+  // least the elastic spline's.
+  int compared = 0;
+  for (std::uint64_t seed = 0; seed < 40; ++seed) {
+    const FitInput in = input_of(random_walk(15, seed, 100), seed % 2 == 1);
+    const FitResult qe = fit("quasi-elastic", in);
+    bool admissible = true;
+    for (const Segment& s : qe.spline.segments) admissible = admissible && is_s_curve(s.bezier);
+    if (!admissible) continue;
+    ++compared;
+    const FitResult re = fit("restricted-elastic", in, {}, ReportLevel::kNone);
+    EXPECT_LE(exact_energy(re), *qe.report->bending_energy * (1.0 + 1e-9)) << "seed " << seed;
+  }
+  EXPECT_GE(compared, 20);
+}
+
+TEST(ElasticSpline, ElasticGoesBelowRestrictedWithUTurnsAndCoupledConstraints) {
+  // A sharp zig-zag: the unrestricted spline uses pieces beyond 90°, never more energy.
+  for (std::uint64_t seed = 0; seed < 10; ++seed) {
+    SCOPED_TRACE(seed);
+    const FitInput in = input_of(random_walk(14, seed, 150), seed % 2 == 0);
+    const FitResult re = fit("restricted-elastic", in, {}, ReportLevel::kNone);
+    const FitResult el = fit("elastic", in, {}, ReportLevel::kBasic);
+    EXPECT_LE(exact_energy(el), exact_energy(re) * (1.0 + 1e-12));
+    // Converged, or optimal to the precision of the energy's derivatives (elastic.md).
+    EXPECT_NE(el.solver->status, SolverStatus::kIterationLimit);
+    EXPECT_LE(el.solver->residual, 1e-6);
+    for (const auto& span : el.method_report.at("spans")) {
+      const double a = span.at("alpha_deg").get<double>(), b = span.at("beta_deg").get<double>();
+      EXPECT_LT(std::abs(a), 180.0);
+      EXPECT_LT(std::abs(b), 180.0);
+      EXPECT_LE(std::abs(a - b), 180.0 + 1e-9);
+    }
+  }
+  // The closed 19-point wave closes with one long span: a U-turn piece at α = β, where the
+  // energy has a convex kink (the optimizer locks the ridge instead of crossing it forever).
+  std::vector<Point> wave;
+  for (int i = 0; i < 19; ++i) wave.push_back({double(i), 2.0 * std::sin(i / 3.0)});
+  const FitResult w = fit("elastic", input_of(wave, true), {}, ReportLevel::kBasic);
+  EXPECT_NE(w.solver->status, SolverStatus::kIterationLimit);
+  const auto& last = w.method_report.at("spans").back();
+  EXPECT_EQ(last.at("kind"), "u-turn");
+  EXPECT_NEAR(last.at("alpha_deg").get<double>(), last.at("beta_deg").get<double>(), 1e-6);
+  EXPECT_LT(exact_energy(w), exact_energy(fit("restricted-elastic", input_of(wave, true))));
+}
+
+TEST(ElasticSpline, NodeKindsClampedEndsAndClosedCurves) {
+  FitInput in = input_of({{0, 0}, {1, 2}, {3, 3}, {5, 2}, {6, 0}});
+  in.kinds = {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner, PointKind::kSmooth,
+              PointKind::kSmooth};
+  in.tangents = {std::nullopt, Vec2{1, 0.5}, std::nullopt, std::nullopt, std::nullopt};
+  in.end_tangent = Vec2{1, -1};
+  for (const char* method : {"restricted-elastic", "elastic"}) {
+    const FitResult r = fit(method, in);
+    EXPECT_LT(norm(r.tangents[1] - normalized(Vec2{1, 0.5})), 1e-12);
+    EXPECT_LT(norm(r.tangents[4] - normalized(Vec2{1, -1})), 1e-12);
+    EXPECT_EQ(r.method_report.at("pieces"), 2);
+  }
+  // A clamped direction 120° from its chord: outside the restricted box, an s-curve piece.
+  FitInput wide = input_of({{0, 0}, {1, 0}, {2, 0.5}});
+  wide.start_tangent = from_angle(120 * kDeg);
+  const Error e = expect_error(ErrorCode::kInfeasible,
+                               [&] { (void)fit("restricted-elastic", wide); }, {"point 0 "});
+  EXPECT_EQ(e.index(), 0u);
+  const FitResult ok = fit("elastic", wide);
+  EXPECT_NEAR(ok.method_report.at("spans")[0].at("alpha_deg").get<double>(), 120.0, 1e-9);
+}
+
+TEST(ElasticSpline, OptionsAndErrors) {
+  const FitInput in = input_of(random_walk(6, 2, 60));
+  expect_error(ErrorCode::kBadOption,
+               [&] {
+                 (void)fit("restricted-elastic", in, {{"omega_deg", 100}});
+               },
+               {"omega_deg"});
+  expect_error(ErrorCode::kBadOption,
+               [&] {
+                 (void)fit("elastic", in, {{"omega_deg", 190}});
+               },
+               {"omega_deg"});
+  expect_error(ErrorCode::kBadOption,
+               [&] {
+                 (void)fit("min-energy", in, {{"basis", "restricted-elastic"}, {"omega_deg", 120}});
+               },
+               {"omega_deg"});
+  // The basis of min-energy is the same method.
+  EXPECT_EQ(exact_energy(fit("min-energy", in, {{"basis", "restricted-elastic"}})),
+            exact_energy(fit("restricted-elastic", in)));
+  EXPECT_EQ(exact_energy(fit("min-energy", in, {{"basis", "elastic"}})),
+            exact_energy(fit("elastic", in)));
+  // No cubic basic curve; the pieces instead.
+  const BasicCurveMethod re{MinEnergyBasis::kRestrictedElastic, 1.0, kPi / 2};
+  expect_error(ErrorCode::kInvalidArgument, [&] {
+    (void)basic_curve(re, {0, 0}, {1, 0}, 0.3, -0.2);
+  });
+  const std::vector<CubicBezier> pieces = basic_curve_pieces(re, {0, 0}, {1, 0}, 0.3, -0.2, 1e-6);
+  ASSERT_FALSE(pieces.empty());
+  EXPECT_EQ(pieces.front().p[0], (Point{0, 0}));
+  EXPECT_EQ(pieces.back().p[3], (Point{1, 0}));
+  // The iteration cap covers both phases of elastic.
+  const Error cap = expect_error(ErrorCode::kNotConverged, [&] {
+    (void)fit("elastic", input_of(random_walk(30, 4, 150)), {{"max_iterations", 1}});
+  });
+  EXPECT_NE(std::string(cap.what()).find("after 1 iterations"), std::string::npos) << cap.what();
+}
+
+}  // namespace
+}  // namespace fairspline
