@@ -121,7 +121,7 @@ if(NOT consumer_seen OR library_seen EQUAL 0)
   message(FATAL_ERROR "consumer_subdir: compile_commands.json lacks the consumer or the library")
 endif()
 
-run_step("building the parent" ${CMAKE_COMMAND} --build ${build} --config Debug)
+run_step("building the parent" ${CMAKE_COMMAND} --build ${build} --config Debug --parallel 2)
 
 # Only the library and the consumer were built: no program or module of fairspline's own.
 file(GLOB_RECURSE built LIST_DIRECTORIES false RELATIVE ${build} ${build}/*)
