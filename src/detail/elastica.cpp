@@ -124,11 +124,6 @@ Vec2 dp(double u) {
   const double s = std::sin(u), w = std::sqrt(1.0 + s * s);
   return {kSqrt2 * std::cos(u), kSqrt2 * s * s / w};
 }
-/// p''(u).
-Vec2 ddp(double u) {
-  const double s = std::sin(u), c = std::cos(u), w2 = 1.0 + s * s;
-  return {-kSqrt2 * s, kSqrt2 * s * c * (2.0 + s * s) / (w2 * std::sqrt(w2))};
-}
 
 /// The u ∈ [0, π] with θ(u) = t, t ∈ [0, π]: sin²u = sin t, cos²u = cos²t / (1 + sin t).
 double inv_theta(double t) {
@@ -724,6 +719,15 @@ double ElasticaArc::curvature(double t) const {
 }
 
 // ---- Bézier approximation -------------------------------------------------------------------
+//
+// Each candidate cubic is certified against its sub-arc by a bound of the Hausdorff distance
+// that holds everywhere, not only at samples (hausdorff_bound; derivation in
+// docs/methods/elastic.md). The sub-arc is evaluated in one sweep over cells of width at most
+// (48 tol/kM4)^{1/4}: positions by per-cell Gauss–Legendre quadrature of X' and closed-form
+// increments of √2 sin u, summed with compensation; no elliptic integral and no projection
+// onto the arc, only Newton foot points on the cubic (a polynomial). The cubics are placed
+// greedily, each about as long as the error model d ∝ length⁶ of G2 Hermite interpolation
+// says it can be.
 
 namespace {
 
@@ -735,45 +739,264 @@ struct HermitePiece {
   CubicBezier bezier() const { return {{p0, p0 + a * t0, p3 - b * t1, p3}}; }
 };
 
-/// A part of the piece to approximate: the elastica over [u_start, u_end], optionally after a
-/// straight lead of length `lead` along the inflection tangent that ends at u = 0 (the U-turn's
-/// segment; it is parameterized by u ∈ [−lead/√2, 0], the elastica's speed at u = 0, so the
-/// parameterization stays C¹ there). Positions are relative to where the part starts.
+/// A part of the piece to approximate: the elastica over [u_start, u_end].
 struct Part {
   double u_start = 0.0, u_end = 0.0;
-  double lead = 0.0;
 
-  bool on_lead(double u) const { return lead > 0.0 && u <= 0.0; }
-  /// position(u) − position(v), without cancellation for nearby u, v.
-  Vec2 diff(double v, double u) const {
-    if (lead <= 0.0) return chord_of(v, u);
-    const Vec2 straight{kSqrt2 * (std::min(u, 0.0) - std::min(v, 0.0)), 0.0};
-    if (u <= 0.0 && v <= 0.0) return straight;
-    if (u >= 0.0 && v >= 0.0) return chord_of(v, u);
-    return u > v ? straight + chord_of(0.0, u) : straight - chord_of(0.0, v);
-  }
-  Vec2 tangent(double u) const { return on_lead(u) ? Vec2{1.0, 0.0} : tangent_of(u); }
-  double curvature(double u) const { return on_lead(u) ? 0.0 : kSqrt2 * std::sin(u); }
-  Vec2 d1(double u) const { return on_lead(u) ? Vec2{kSqrt2, 0.0} : dp(u); }
-  Vec2 d2(double u) const { return on_lead(u) ? Vec2{0.0, 0.0} : ddp(u); }
-  /// Arc length from the part's start (for the least-squares parameters).
-  double length_to(double u) const {
-    if (lead <= 0.0) return s_of(u) - s_of(u_start);
-    return kSqrt2 * (std::min(u, 0.0) - u_start) + (u > 0.0 ? s_of(u) : 0.0);
-  }
   /// Total turn of [ua, ub] (θ decreases before the inflection, increases after it).
   double turn(double ua, double ub) const {
-    const double a = on_lead(ua) ? 0.0 : theta(ua), b = on_lead(ub) ? 0.0 : theta(ub);
+    const double a = theta(ua), b = theta(ub);
     return ua < 0.0 && ub > 0.0 ? a + b : std::abs(b - a);
   }
 };
 
+/// Bound of |p''''| on the whole canonical curve: the maximum is 5.964084 (a 2·10⁵-point scan
+/// of the closed form; |p⁽⁵⁾| < 28.4, so the scan misses at most 5·10⁻⁴), rounded up.
+constexpr double kM4 = 6.0;
+/// Cells are at most this wide in u: the 5-point Gauss–Legendre rule is then exact to
+/// ~4·10⁻¹⁶ relative (the integrands' poles are ≥ 0.88 from the real axis).
+constexpr double kMaxCell = 0.1;
+/// Cells per sub-arc at least (also the least-squares points come from the cells).
+constexpr int kMinCells = 4;
+
+/// A sub-arc [ua, ub] sampled at the ends of its cells, relative to p(ua).
+struct Sweep {
+  std::vector<double> u;       ///< sample parameters, u.front() = ua, u.back() = ub
+  std::vector<Vec2> pos;       ///< p(u) − p(ua)
+  std::vector<Vec2> tan;       ///< unit tangent
+  std::vector<double> speed;   ///< |p'(u)|
+  std::vector<double> length;  ///< arc length from ua
+  double k0 = 0.0, k1 = 0.0;   ///< curvature at ua and ub
+
+  int cells() const { return static_cast<int>(u.size()) - 1; }
+  void clear() {
+    u.clear();
+    pos.clear();
+    tan.clear();
+    speed.clear();
+    length.clear();
+  }
+};
+
+/// Compensated (Neumaier) sum.
+struct Sum {
+  double s = 0.0, c = 0.0;
+  void add(double x) {
+    const double t = s + x;
+    c += std::abs(s) >= std::abs(x) ? (s - t) + x : (x - t) + s;
+    s = t;
+  }
+  double value() const { return s + c; }
+};
+
+/// 5-point Gauss–Legendre on [−1, 1]: the centre and the two symmetric pairs.
+constexpr std::array<double, 3> kGlNode = {0.0, 0.538469310105683091036, 0.906179845938663992798};
+constexpr std::array<double, 3> kGlWeight = {0.568888888888888888889, 0.478628670499366468041,
+                                             0.236926885056189087514};
+
+/// Appends the samples of the elastica [a, b] in n cells, after the sample at a (position 0,
+/// arc length 0). One sincos and six square roots per cell.
+void sweep_cells(double a, double b, int n, Sweep& sw) {
+  const double h = (b - a) / n, r = 0.5 * h;
+  std::array<double, 3> sn{}, cn{};  // sin, cos of the nodes' offsets from the cell's middle
+  for (std::size_t i = 1; i < kGlNode.size(); ++i) {
+    sn[i] = std::sin(r * kGlNode[i]);
+    cn[i] = std::cos(r * kGlNode[i]);
+  }
+  const double sr = std::sin(r), cr = std::cos(r);
+  Sum x, y, len;
+  for (int j = 0; j < n; ++j) {
+    const double m = a + (j + 0.5) * h;
+    const double sm = std::sin(m), cm = std::cos(m);
+    // ∫ X' = √2 ∫ sin²/√(1 + sin²) and ∫ |p'| = √2 ∫ 1/√(1 + sin²) over the cell.
+    const double w0 = 1.0 / std::sqrt(1.0 + sm * sm);
+    double fx = kGlWeight[0] * sm * sm * w0, fl = kGlWeight[0] * w0;
+    for (std::size_t i = 1; i < kGlNode.size(); ++i) {
+      const double sp = sm * cn[i] + cm * sn[i], sq = sm * cn[i] - cm * sn[i];
+      const double wp = 1.0 / std::sqrt(1.0 + sp * sp), wq = 1.0 / std::sqrt(1.0 + sq * sq);
+      fx += kGlWeight[i] * (sp * sp * wp + sq * sq * wq);
+      fl += kGlWeight[i] * (wp + wq);
+    }
+    x.add(2.0 * kSqrt2 * cm * sr);  // √2 (sin(m + r) − sin(m − r))
+    y.add(kSqrt2 * r * fx);
+    len.add(kSqrt2 * r * fl);
+    const double u = j + 1 == n ? b : a + (j + 1) * h;
+    double s, c;
+    if (j + 1 == n) {
+      s = std::sin(b);
+      c = std::cos(b);
+    } else {
+      s = sm * cr + cm * sr;
+      c = cm * cr - sm * sr;
+    }
+    const double w = std::sqrt(1.0 + s * s);
+    sw.u.push_back(u);
+    sw.pos.push_back({x.value(), y.value()});
+    sw.tan.push_back({c * w, s * s});
+    sw.speed.push_back(kSqrt2 / w);
+    sw.length.push_back(len.value());
+  }
+}
+
+/// Samples [ua, ub] in cells at most h wide, at least kMinCells of them.
+void sweep(double ua, double ub, double h, Sweep& sw) {
+  sw.clear();
+  const int n = static_cast<int>(std::clamp(std::ceil((ub - ua) / h), double{kMinCells}, 1e7));
+  const double s = std::sin(ua), c = std::cos(ua), w = std::sqrt(1.0 + s * s);
+  sw.u.push_back(ua);
+  sw.pos.push_back({0.0, 0.0});
+  sw.tan.push_back({c * w, s * s});
+  sw.speed.push_back(kSqrt2 / w);
+  sw.length.push_back(0.0);
+  sw.k0 = kSqrt2 * s;
+  sweep_cells(ua, ub, n, sw);
+  sw.k1 = kSqrt2 * std::sin(ub);
+}
+
+/// The Bernstein coefficients c_0..c_9 of q(ρ(s)) − h(s), s ∈ [0, 1]: the cubic q
+/// reparameterized by the cubic ρ with Bernstein coefficients (0, r1, r2, 1) (composed
+/// exactly), minus the cubic h (degree-elevated). In the scaled Bernstein basis sⁱ(1 − s)ⁿ⁻ⁱ
+/// products are plain convolutions.
+std::array<Vec2, 10> composed_difference(const std::array<Vec2, 4>& q, double r1, double r2,
+                                         const std::array<Vec2, 4>& h) {
+  const std::array<double, 4> a = {0.0, 3.0 * r1, 3.0 * r2, 1.0};                  // ρ
+  const std::array<double, 4> b = {1.0, 3.0 * (1.0 - r1), 3.0 * (1.0 - r2), 0.0};  // 1 − ρ
+  std::array<double, 7> aa{}, bb{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      aa[i + j] += a[i] * a[j];
+      bb[i + j] += b[i] * b[j];
+    }
+  // q0 (1 − ρ)³ + 3 q1 ρ(1 − ρ)² + 3 q2 ρ²(1 − ρ) + q3 ρ³ against h times (s + (1 − s))⁶.
+  static constexpr std::array<double, 7> kSix = {1, 6, 15, 20, 15, 6, 1};
+  static constexpr std::array<double, 10> kNine = {1, 9, 36, 84, 126, 126, 84, 36, 9, 1};
+  std::array<double, 10> w0{}, w1{}, w2{}, w3{}, e1{}, e2{};
+  for (int i = 0; i < 4; ++i)
+    for (int m = 0; m < 7; ++m) {
+      w0[i + m] += b[i] * bb[m];
+      w1[i + m] += a[i] * bb[m];
+      w2[i + m] += b[i] * aa[m];
+      w3[i + m] += a[i] * aa[m];
+    }
+  static constexpr std::array<double, 4> kThree = {1, 3, 3, 1};
+  for (int i = 0; i < 4; ++i)
+    for (int m = 0; m < 7; ++m) {
+      const double w = kThree[i] * kSix[m];
+      e1[i + m] += w * h[i].x;
+      e2[i + m] += w * h[i].y;
+    }
+  const Vec2 q1 = 3.0 * q[1], q2 = 3.0 * q[2];
+  std::array<Vec2, 10> c{};
+  for (int k = 0; k < 10; ++k)
+    c[k] = (w0[k] * q[0] + w1[k] * q1 + w2[k] * q2 + w3[k] * q[3] - Vec2{e1[k], e2[k]}) / kNine[k];
+  return c;
+}
+
+/// Upper bound of the Hausdorff distance between the cubic (relative to p(ua)) and the swept
+/// sub-arc, valid everywhere up to rounding (an allowance of 32ε times the arc length is
+/// added); docs/methods/elastic.md has the proof. Per cell [u_{j−1}, u_j]: the arc,
+/// parameterized linearly in u, is within R = kM4·Δu⁴/384 of its cubic Hermite interpolant H
+/// ; the cubic's piece between the foot points of the cell's ends,
+/// reparameterized by a cubic ρ so that its speed matches H's at both ends, differs from H by
+/// a degree-9 polynomial D whose Bernstein coefficients bound it. Seen as graphs over the
+/// cell's chord (both curves turn by little there), a point of one curve and the point of the
+/// other above the same place on the chord are at most N + R + τ(T + R) apart, N and T the
+/// largest components of D across and along the chord, τ the tangent of the largest angle of
+/// either curve's tangent to the chord: what remains of the cubic's uneven parameter speed
+/// after ρ (T) counts only τ ≈ 0.01 times. Foot points by Newton from the previous one;
+/// whatever they are, the bound stays valid as long as they increase, which is enforced.
+double hausdorff_bound(const Sweep& sw, const CubicBezier& bz, bool& regular) {
+  const int n = sw.cells();
+  double worst = 0.0;
+  regular = true;
+  double t0 = 0.0;
+  Vec2 b0 = bz.p[0], d0 = bz.d1(0.0);
+  for (int j = 1; j <= n; ++j) {
+    double t1 = 1.0;
+    if (j < n) {
+      const Vec2 q = sw.pos[j];
+      const double v0 = std::sqrt(norm2(d0));
+      double t = v0 > 0.0 ? t0 + (sw.length[j] - sw.length[j - 1]) / v0 : t0;
+      t = std::min(t, 1.0);
+      for (int it = 0; it < 6; ++it) {
+        const Vec2 e = bz.eval(t) - q, e1 = bz.d1(t), e2 = bz.d2(t);
+        const double den = dot(e1, e1) + dot(e, e2);
+        if (!(den > 0.0)) break;
+        const double step = dot(e, e1) / den;
+        t = std::clamp(t - step, t0, 1.0);
+        if (!(std::abs(step) > 1e-15)) break;
+      }
+      if (!(t > t0 && t < 1.0)) t = t0 + (1.0 - t0) / (n - j + 1);
+      t1 = t;
+    }
+    const Vec2 b1 = j < n ? bz.eval(t1) : bz.p[3], d1 = bz.d1(t1);
+    const double dt = t1 - t0, du = sw.u[j] - sw.u[j - 1];
+    // Relative to the arc's point p(u_{j−1}): the arc's chord and Hermite handles, the cubic
+    // piece's ends and handles.
+    const Vec2 o = sw.pos[j - 1], chord = sw.pos[j] - o;
+    const Vec2 h0 = (du / 3.0 * sw.speed[j - 1]) * sw.tan[j - 1],
+               h1 = (du / 3.0 * sw.speed[j]) * sw.tan[j];
+    const Vec2 f0 = b0 - o, f1 = b1 - o, c0 = (dt / 3.0) * d0, c1 = (dt / 3.0) * d1;
+    // ρ'(0) = 3 r1 and ρ'(1) = 3(1 − r2) make the speeds equal, clamped to [0, 3]: ρ maps
+    // [0, 1] onto [0, 1] whatever r1, r2 ∈ [0, 1] are.
+    const double n0 = std::sqrt(norm2(c0)), n1 = std::sqrt(norm2(c1));
+    const double r1 = n0 > 0.0 ? std::min(1.0, std::sqrt(norm2(h0)) / (3.0 * n0)) : 1.0;
+    const double r2 = n1 > 0.0 ? 1.0 - std::min(1.0, std::sqrt(norm2(h1)) / (3.0 * n1)) : 0.0;
+    const std::array<Vec2, 10> c = composed_difference({f0, f0 + c0, f1 - c1, f1}, r1, r2,
+                                                       {Vec2{0.0, 0.0}, h0, chord - h1, chord});
+    const double r = kM4 / 384.0 * (du * du) * (du * du);
+    // Common parameter: |D| + R.
+    double full = 0.0;
+    for (const Vec2& x : c) full = std::max(full, norm2(x));
+    double cell = std::sqrt(full) + r;
+    // Graphs over the chord: the arc turns by at most √2 times its length on the cell; the
+    // cubic's piece by at most the angles of its hodograph's control points (q1 − q0,
+    // q2 − q1, q3 − q2), which must all point forwards.
+    const double ell = std::sqrt(norm2(chord));
+    const double turn = kSqrt2 * (sw.length[j] - sw.length[j - 1]);
+    if (!(ell > 0.0 && turn <= 0.5)) regular = false;  // (not reached: cells are short)
+    if (ell > 0.0 && turn <= 0.5) {
+      const Vec2 tc = chord / ell;
+      double tau = turn * (1.0 + 0.5 * turn * turn);  // ≥ tan(turn) for turn ≤ 0.5
+      bool forwards = true;
+      for (const Vec2& v : {c0, (f1 - c1) - (f0 + c0), c1}) {
+        const double along = dot(v, tc);
+        forwards = forwards && along > 0.0;
+        if (forwards) tau = std::max(tau, std::abs(cross(tc, v)) / along);
+      }
+      regular = regular && forwards;
+      if (forwards) {
+        double across = 0.0, along = 0.0;
+        for (const Vec2& x : c) {
+          across = std::max(across, std::abs(cross(tc, x)));
+          along = std::max(along, std::abs(dot(tc, x)));
+        }
+        // Points whose partner above the same place lies in a neighbouring cell are within
+        // |e| + (1 + τ)|e·T| of the cell's end, e the cubic's offset there.
+        const Vec2 e0 = f0, e3 = f1 - chord;
+        const double graph = std::max({across + r + tau * (along + r),
+                                       std::sqrt(norm2(e0)) + (1.0 + tau) * std::abs(dot(e0, tc)),
+                                       std::sqrt(norm2(e3)) + (1.0 + tau) * std::abs(dot(e3, tc))});
+        cell = std::min(cell, graph);
+      }
+    }
+    worst = std::max(worst, cell);
+    t0 = t1;
+    b0 = b1;
+    d0 = d1;
+  }
+  return worst + 32.0 * kEps * sw.length.back();
+}
+
 /// G2 Hermite handles: (3/2)κ0 a² = cross(T0, D) − b cross(T0, T1) and the mirror equation at
-/// the end (de Boor, Höllig, Sabin), by Newton from a = b = |D|/3.
+/// the end (de Boor, Höllig, Sabin), by Newton from a = b = |D|/3. Converged when the step
+/// is below 1e-14 |D|, or below 1e-9 |D| and no longer shrinking (the system is often
+/// ill-conditioned on short sub-arcs, where Newton ends in a cycle of rounding-sized steps).
 bool g2_handles(Vec2 d, Vec2 t0, Vec2 t1, double k0, double k1, double& a, double& b) {
   const double len = norm(d);
   const double c = cross(t0, t1), d0 = cross(t0, d), d1 = cross(d, t1);
   a = b = len / 3.0;
+  double previous = std::numeric_limits<double>::infinity();
   for (int it = 0; it < 40; ++it) {
     const double f0 = 1.5 * k0 * a * a + c * b - d0;
     const double f1 = 1.5 * k1 * b * b + c * a - d1;
@@ -784,27 +1007,88 @@ bool g2_handles(Vec2 d, Vec2 t0, Vec2 t1, double k0, double k1, double& a, doubl
     a -= da;
     b -= db;
     if (!(a > 0.0 && b > 0.0 && a < len && b < len)) return false;
-    if (std::abs(da) + std::abs(db) <= 1e-14 * len) return true;
+    const double step = std::abs(da) + std::abs(db);
+    if (step <= 1e-14 * len || (step <= 1e-9 * len && step >= 0.5 * previous)) return true;
+    previous = step;
   }
   return false;
 }
 
-/// Least-squares handles against 33 points of [ua, ub], with 4 rounds of parameter correction
-/// (the points' parameters projected onto the current cubic).
-void least_squares_handles(const Part& part, double ua, double ub, HermitePiece& h) {
-  constexpr int kPoints = 33;
-  std::array<Vec2, kPoints> q;
-  std::array<double, kPoints> tau;
-  const double s0 = part.length_to(ua), len = part.length_to(ub) - s0;
-  for (int j = 0; j < kPoints; ++j) {
-    const double u = ua + (ub - ua) * j / (kPoints - 1);
-    q[j] = part.diff(ua, u);
-    tau[j] = (part.length_to(u) - s0) / len;
+/// Where the G2 system has no solution (for a circular arc its two solution branches cross at
+/// a = b ≈ |D|/3, so on sub-arcs of slowly varying curvature they either split into two
+/// solutions or miss each other), the handles that come closest to it: least squares of the
+/// two residuals by Levenberg–Marquardt from a = b = |D|/3. The cubic then matches the end
+/// curvatures only approximately, but is about as close as a G2 one would be.
+bool near_g2_handles(Vec2 d, Vec2 t0, Vec2 t1, double k0, double k1, double& a, double& b) {
+  const double len = norm(d);
+  const double c = cross(t0, t1), d0 = cross(t0, d), d1 = cross(d, t1);
+  auto residual = [&](double x, double y, double& f0, double& f1) {
+    f0 = 1.5 * k0 * x * x + c * y - d0;
+    f1 = 1.5 * k1 * y * y + c * x - d1;
+    return f0 * f0 + f1 * f1;
+  };
+  a = b = len / 3.0;
+  double f0, f1;
+  double f = residual(a, b, f0, f1), lambda = 1e-3;
+  for (int it = 0; it < 60 && f > 0.0; ++it) {
+    const double j00 = 3.0 * k0 * a, j11 = 3.0 * k1 * b;  // J = [[j00, c], [c, j11]]
+    const double h00 = j00 * j00 + c * c, h01 = (j00 + j11) * c, h11 = c * c + j11 * j11;
+    const double g0 = j00 * f0 + c * f1, g1 = c * f0 + j11 * f1;
+    bool improved = false;
+    while (lambda < 1e12) {
+      const double m00 = h00 * (1.0 + lambda), m11 = h11 * (1.0 + lambda);
+      const double det = m00 * m11 - h01 * h01;
+      if (!(det > 0.0)) {
+        lambda *= 4.0;
+        continue;
+      }
+      const double x = a - (g0 * m11 - h01 * g1) / det, y = b - (m00 * g1 - h01 * g0) / det;
+      double e0 = 0.0, e1 = 0.0;
+      const double fe =
+          (x > 0.0 && y > 0.0 && x < len && y < len) ? residual(x, y, e0, e1) : f + 1.0;
+      if (fe < f) {
+        const bool tiny = std::abs(x - a) + std::abs(y - b) <= 1e-14 * len;
+        a = x;
+        b = y;
+        f = fe;
+        f0 = e0;
+        f1 = e1;
+        lambda = std::max(lambda / 3.0, 1e-12);
+        improved = !tiny;
+        break;
+      }
+      lambda *= 4.0;
+    }
+    if (!improved) break;
+  }
+  return a > 0.0 && b > 0.0 && std::isfinite(a) && std::isfinite(b);
+}
+
+/// Points of the least-squares fallback.
+constexpr int kLeastSquaresPoints = 17;
+
+/// Least-squares handles against the swept points (at most 17 of them; their arc-length
+/// fractions as first parameters), with 4 rounds of parameter correction (the points'
+/// parameters projected onto the current cubic).
+void least_squares_handles(const Sweep& sw, HermitePiece& h) {
+  constexpr int kMaxPoints = kLeastSquaresPoints;
+  std::array<Vec2, kMaxPoints> q;
+  std::array<double, kMaxPoints> tau;
+  const int n = sw.cells();
+  const int stride = (n + kMaxPoints - 2) / (kMaxPoints - 1);
+  int m = 0;
+  for (int j = 0; j <= n; j += stride) {
+    q[m] = sw.pos[j];
+    tau[m++] = sw.length[j] / sw.length.back();
+  }
+  if (tau[m - 1] != 1.0) {  // the last sample when the stride skips it
+    q[m] = sw.pos.back();
+    tau[m++] = 1.0;
   }
   h.a = h.b = norm(h.p3 - h.p0) / 3.0;
   for (int round = 0; round < 5; ++round) {
     double m00 = 0, m01 = 0, m11 = 0, r0 = 0, r1 = 0;
-    for (int j = 0; j < kPoints; ++j) {
+    for (int j = 0; j < m; ++j) {
       const double t = tau[j], v = 1.0 - t;
       const double b0 = v * v * v, b1 = 3 * t * v * v, b2 = 3 * t * t * v, b3 = t * t * t;
       const Vec2 base = (b0 + b1) * h.p0 + (b2 + b3) * h.p3;
@@ -822,7 +1106,7 @@ void least_squares_handles(const Part& part, double ua, double ub, HermitePiece&
     h.a = a;
     h.b = b;
     const CubicBezier bz = h.bezier();
-    for (int j = 1; j + 1 < kPoints; ++j) {  // parameter correction
+    for (int j = 1; j + 1 < m; ++j) {  // parameter correction
       for (int it = 0; it < 3; ++it) {
         const Vec2 e = bz.eval(tau[j]) - q[j], d1 = bz.d1(tau[j]), d2 = bz.d2(tau[j]);
         const double den = dot(d1, d1) + dot(e, d2);
@@ -833,64 +1117,89 @@ void least_squares_handles(const Part& part, double ua, double ub, HermitePiece&
   }
 }
 
-/// Upper bound of the Hausdorff distance between the cubic and [ua, ub], measured at 65
-/// points each way: each distance is to an actual point of the other curve (a foot point
-/// polished by Newton), so it bounds the distance at that sample from above.
-double sampled_distance(const Part& part, double ua, double ub, const CubicBezier& bz) {
-  constexpr int kSamples = 64;
-  double worst = 0.0;
-  for (int i = 0; i <= kSamples; ++i) {
-    const double t = static_cast<double>(i) / kSamples;
-    // cubic → arc
-    const Vec2 q = bz.eval(t);
-    double u = ua + (ub - ua) * t;
-    for (int it = 0; it < 6; ++it) {
-      const Vec2 e = part.diff(ua, u) - q, d1 = part.d1(u), d2 = part.d2(u);
-      const double den = dot(d1, d1) + dot(e, d2);
-      if (!(den > 0.0)) break;
-      const double next = std::clamp(u - dot(e, d1) / den, ua, ub);
-      if (next == u) break;
-      u = next;
-    }
-    worst = std::max(worst, norm(part.diff(ua, u) - q));
-    // arc → cubic
-    const Vec2 r = part.diff(ua, ua + (ub - ua) * t);
-    double v = t;
-    for (int it = 0; it < 6; ++it) {
-      const Vec2 e = bz.eval(v) - r, d1 = bz.d1(v), d2 = bz.d2(v);
-      const double den = dot(d1, d1) + dot(e, d2);
-      if (!(den > 0.0)) break;
-      const double next = std::clamp(v - dot(e, d1) / den, 0.0, 1.0);
-      if (next == v) break;
-      v = next;
-    }
-    worst = std::max(worst, norm(bz.eval(v) - r));
+/// Scratch space reused by every sub-arc of one call.
+struct Workspace {
+  Sweep sweep, points;
+  double cell = 0.0;      ///< largest cell width in u for the tolerance
+  double accuracy = 0.0;  ///< relative accuracy (tolerance / |C|)
+  double floor = 0.0;     ///< energy allowance per canonical length: 1 / (|C| · length)
+};
+
+/// ∫κ² ds of a cubic: 5-point Gauss–Legendre on the four quarters of [0, 1].
+double cubic_bending(const CubicBezier& bz) {
+  double sum = 0.0;
+  for (int p = 0; p < 4; ++p) {
+    const double mid = 0.125 + 0.25 * p;
+    for (std::size_t i = 0; i < kGlNode.size(); ++i)
+      for (double side : {-1.0, 1.0}) {
+        if (i == 0 && side > 0.0) continue;
+        const double t = mid + side * 0.125 * kGlNode[i];
+        const Vec2 d1 = bz.d1(t), d2 = bz.d2(t);
+        const double v2 = norm2(d1), k = cross(d1, d2);
+        sum += kGlWeight[i] * k * k / (v2 * v2 * std::sqrt(v2));
+      }
   }
-  return worst;
+  return 0.125 * sum;
 }
 
-/// The cubic of [ua, ub] in coordinates relative to its start: the G2 Hermite cubic, or the
-/// least-squares one when that has no solution or misses `target` (it is often twice as
-/// close, while the G2 one keeps the curvature continuous at the joints). Sets `distance` to
-/// its sampled distance from the sub-arc.
-HermitePiece fit_sub_arc(const Part& part, double ua, double ub, double target, double& distance) {
+/// How far the cubic is from being accepted, as a distance comparable with the tolerance
+/// (accepted when at most `target`): its certified distance from the swept sub-arc, or more
+/// when it is not regular (its tangent turns back somewhere: a cusp or a loop, which the
+/// distance alone does not exclude; or a handle shorter than 5% of the chord, which would leave
+/// the end tangent directions to the rounding of the control points), or when its bending
+/// energy (quadrature) misses the sub-arc's, 2ΔX, by more than accuracy·(E_sub + ℓ_sub/(|C|·ℓ))
+/// (ℓ_sub its length, ℓ the piece's): summed, the output's energy is within
+/// accuracy·(E + 1/|C|) of the exact one. The energy's margin counts as the distance
+/// target·(miss/allowance)^{6/4} (energy errors of G2 cubics shrink like the fourth power of
+/// the length, distances like the sixth), so that the placement sees whichever binds.
+double assess(const Sweep& sw, const CubicBezier& bz, double target, const Workspace& ws) {
+  bool regular;
+  double d = hausdorff_bound(sw, bz, regular);
+  const double chord = std::sqrt(norm2(bz.p[3] - bz.p[0]));
+  regular = regular && norm2(bz.p[1] - bz.p[0]) >= 0.0025 * chord * chord &&
+            norm2(bz.p[3] - bz.p[2]) >= 0.0025 * chord * chord;
+  if (!regular) d = std::max(d, 2.0 * target);
+  if (d <= target) {
+    const double allow =
+        ws.accuracy * (2.0 * std::abs(sw.pos.back().y) + ws.floor * sw.length.back());
+    const double miss = std::abs(cubic_bending(bz) - 2.0 * sw.pos.back().y);
+    const double e = target * std::pow(miss / allow, 1.5);  // above target when miss > allow
+    d = std::isnan(e) ? 2.0 * target : std::max(d, e);
+  }
+  return d;
+}
+
+/// The cubic of [ua, ub] in coordinates relative to its start: the G2 Hermite cubic (the one
+/// closest to it where the G2 system has no solution), which keeps the curvature continuous
+/// at the joints; when it misses `target`, but by less than a factor 8, also the least-squares
+/// cubic, and the better of the two. Sets `distance` to its assessment (assess; infinity when
+/// no cubic was found).
+HermitePiece fit_sub_arc(double ua, double ub, double target, Workspace& ws, double& distance) {
+  Sweep& sw = ws.sweep;
+  sweep(ua, ub, ws.cell, sw);
   HermitePiece h;
   h.p0 = {0.0, 0.0};
-  h.p3 = part.diff(ua, ub);
-  h.t0 = part.tangent(ua);
-  h.t1 = part.tangent(ub);
+  h.p3 = sw.pos.back();
+  h.t0 = sw.tan.front();
+  h.t1 = sw.tan.back();
   double a, b;
-  if (g2_handles(h.p3, h.t0, h.t1, part.curvature(ua), part.curvature(ub), a, b)) {
+  if (g2_handles(h.p3, h.t0, h.t1, sw.k0, sw.k1, a, b) ||
+      near_g2_handles(h.p3, h.t0, h.t1, sw.k0, sw.k1, a, b)) {
     h.a = a;
     h.b = b;
-    distance = sampled_distance(part, ua, ub, h.bezier());
-    if (distance <= target) return h;
+    distance = assess(sw, h.bezier(), target, ws);
+    if (distance <= target || distance > 8.0 * target) return h;
   } else {
     distance = std::numeric_limits<double>::infinity();
   }
   HermitePiece ls = h;
-  least_squares_handles(part, ua, ub, ls);
-  const double d = sampled_distance(part, ua, ub, ls.bezier());
+  if (sw.cells() >= (kLeastSquaresPoints - 1) / 2) {
+    least_squares_handles(sw, ls);
+  } else {
+    sweep(ua, ub, (ub - ua) / (kLeastSquaresPoints - 1), ws.points);
+    least_squares_handles(ws.points, ls);
+  }
+  const double d = assess(sw, ls.bezier(), target, ws);
   if (d < distance) {
     distance = d;
     return ls;
@@ -898,32 +1207,67 @@ HermitePiece fit_sub_arc(const Part& part, double ua, double ub, double target, 
   return h;
 }
 
-/// Appends the certified cubics of [ua, ub], halving it until each passes; `origin` is where
-/// the part starts, relative to p(u0).
-void approximate(const Part& part, Vec2 origin, double ua, double ub, double tol, int depth,
-                 std::vector<HermitePiece>& out) {
-  double d;
-  HermitePiece h = fit_sub_arc(part, ua, ub, 0.5 * tol, d);
-  // 40 halvings leave 1e-12 of a quarter wave: never reached for accuracy >= 1e-13.
-  if (d <= 0.5 * tol || depth >= 40) {
-    const Vec2 base = origin + part.diff(part.u_start, ua);
-    h.p0 = base;
-    h.p3 = h.p3 + base;
-    out.push_back(h);
-    return;
-  }
-  const double um = 0.5 * (ua + ub);
-  approximate(part, origin, ua, um, tol, depth + 1, out);
-  approximate(part, origin, um, ub, tol, depth + 1, out);
-}
-
-/// Starts with sub-arcs turning at most 90° (a cubic cannot follow much more).
-void approximate_part(const Part& part, Vec2 origin, double tol, std::vector<HermitePiece>& out) {
+/// Appends the certified cubics of the part, each placed at the running end of the previous
+/// one (compensated sums; `origin` is where the part starts, relative to p(u0)). Greedy from
+/// the start: each cubic is made about as long as it can be. The distance of the G2 Hermite
+/// cubic scales like the sixth power of the sub-arc's length, so a fit at distance d suggests
+/// the length times (0.9 tol/d)^{1/6}: a failed fit is retried shorter, a passing one far below
+/// the tolerance longer (bisecting once both are known), within 10%. The first try for each
+/// cubic cuts the rest of the part into equal sub-arcs no longer than the last cubic suggests
+/// (up to 15% longer when that saves one of the last few). No try exceeds a sub-arc turning
+/// about 90° (a cubic cannot follow much more).
+void approximate_part(const Part& part, Vec2 origin, double tol, Workspace& ws,
+                      std::vector<HermitePiece>& out) {
   const double ua = part.u_start, ub = part.u_end;
-  const int n = std::max(1, static_cast<int>(std::ceil(part.turn(ua, ub) / (kPi / 2) - 1e-9)));
-  for (int i = 0; i < n; ++i)
-    approximate(part, origin, ua + (ub - ua) * i / n,
-                i + 1 == n ? ub : ua + (ub - ua) * (i + 1) / n, tol, 0, out);
+  const int turns = std::max(1, static_cast<int>(std::ceil(part.turn(ua, ub) / (kPi / 2) - 1e-9)));
+  const double longest = (ub - ua) / turns;
+  Sum base[2];
+  base[0].add(origin.x);
+  base[1].add(origin.y);
+  auto ratio = [&](double d) { return std::pow(0.9 * tol / d, 1.0 / 6.0); };
+  double a = ua, want = longest;
+  while (a < ub) {
+    const double rest = ub - a;
+    // Equal sub-arcs no longer than `want`, or up to 15% longer when that saves one of the
+    // last few cubics.
+    double m = std::ceil(rest / want * (1.0 - 1e-12));
+    if (m <= 4.0) m = std::min(m, std::ceil(rest / (1.15 * want)));
+    double len = rest / m;
+    double passed = 0.0, failed = std::numeric_limits<double>::infinity(), best_d = 0.0;
+    double best_b = ub;
+    HermitePiece best;
+    for (int tries = 0;; ++tries) {
+      const double b = len >= rest * (1.0 - 1e-12) ? ub : a + len;
+      len = b - a;
+      double d;
+      HermitePiece h = fit_sub_arc(a, b, tol, ws, d);
+      // Below 1e-12 of u: never reached for accuracy >= 1e-13.
+      if (d <= tol || len <= 1e-12 || tries >= 100) {
+        passed = len;
+        best = h;
+        best_d = d;
+        best_b = b;
+        const double grow = ratio(d);
+        if (b == ub || grow < 1.15 || failed < 1.1 * len || tries >= 12) break;
+        len = std::min({len * std::min(grow, 4.0), 0.5 * (len + failed), longest});
+        if (1.15 * len >= rest && failed > rest) len = rest;  // try to the end
+        if (len <= passed) break;
+      } else {
+        failed = len;
+        if (passed > 0.0 && (failed < 1.1 * passed || tries >= 12)) break;
+        len *= std::isfinite(d) ? std::clamp(ratio(d), 0.2, 0.95) : 0.5;
+        if (passed > 0.0) len = std::max(len, 0.5 * (passed + failed));
+      }
+    }
+    const Vec2 at{base[0].value(), base[1].value()};
+    best.p0 = at;
+    best.p3 = best.p3 + at;
+    base[0].add(best.p3.x - at.x);
+    base[1].add(best.p3.y - at.y);
+    out.push_back(best);
+    a = best_b;
+    want = std::min(longest, passed * std::clamp(ratio(best_d), 1.0, 2.0));
+  }
 }
 
 }  // namespace
@@ -943,17 +1287,35 @@ std::vector<CubicBezier> elastica_to_beziers(const ElasticaArc& arc, double accu
   // survive rounding of the control points.
   const double nc = norm(arc.chord);
   const double tol = accuracy * nc;
+  Workspace ws;
+  // Cells so narrow that the Hermite remainder kM4·w⁴/384 is at most 1/8 of the tolerance.
+  ws.cell = std::min(kMaxCell, std::pow(384.0 / (8.0 * kM4) * tol, 0.25));
+  ws.accuracy = accuracy;
+  ws.floor = 1.0 / (nc * canonical_length(arc));
   std::vector<HermitePiece> pieces;
   if (arc.kind == ElasticaArc::Kind::kUTurn) {
-    approximate_part({-kPi, 0.0, 0.0}, {0.0, 0.0}, tol, pieces);
-    // The segment and the last turn as one part.
-    approximate_part({-arc.segment / kSqrt2, arc.u1, arc.segment}, canonical_point(arc, 0.0, false),
-                     tol, pieces);
+    // The half-wave, the segment as one straight cubic (exact, and G2: κ = 0 at both of its
+    // ends; a part combining it with the last arc needed more cubics, and for long segments
+    // lost the arc's detail to rounding), then the last arc. A segment shorter than tol/1000
+    // is left out: the last arc, shifted by it, gets that much less tolerance.
+    approximate_part({-kPi, 0.0}, {0.0, 0.0}, tol, ws, pieces);
+    double rest = tol;
+    if (arc.segment > 1e-3 * tol) {
+      HermitePiece line;
+      line.p0 = canonical_point(arc, 0.0, false);
+      line.p3 = canonical_point(arc, 0.0, true);
+      line.t0 = line.t1 = {1.0, 0.0};
+      line.a = line.b = arc.segment / 3.0;
+      pieces.push_back(line);
+    } else {
+      rest -= arc.segment;
+    }
+    approximate_part({0.0, arc.u1}, canonical_point(arc, 0.0, true), rest, ws, pieces);
   } else if (arc.u0 < 0.0 && arc.u1 > 0.0 && std::min(-arc.u0, arc.u1) > 0.05 * (arc.u1 - arc.u0)) {
-    approximate_part({arc.u0, 0.0, 0.0}, {0.0, 0.0}, tol, pieces);
-    approximate_part({0.0, arc.u1, 0.0}, canonical_point(arc, 0.0, false), tol, pieces);
+    approximate_part({arc.u0, 0.0}, {0.0, 0.0}, tol, ws, pieces);
+    approximate_part({0.0, arc.u1}, canonical_point(arc, 0.0, false), tol, ws, pieces);
   } else {
-    approximate_part({arc.u0, arc.u1, 0.0}, {0.0, 0.0}, tol, pieces);
+    approximate_part({arc.u0, arc.u1}, {0.0, 0.0}, tol, ws, pieces);
   }
   // To the world, in the input's order; joints and their tangents shared exactly.
   const double scale = L / nc;

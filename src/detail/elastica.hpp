@@ -81,10 +81,13 @@ std::vector<ElasticaArc> elastica_candidates(Point p0, Point p1, double alpha, d
 
 /// Cubic Béziers approximating the piece: G1 (shared joints and tangent directions), end points
 /// and end tangent directions exact, Hausdorff distance to the exact piece at most
-/// accuracy·|p1 − p0|. Each cubic is the G2 Hermite cubic of its sub-arc (end curvatures
-/// matched; least squares when that has no solution), accepted when the distance measured
-/// both ways at 64 points is at most half the tolerance (a safety factor of 2 for what lies
-/// between the samples), otherwise its sub-arc is halved. accuracy ∈ [1e-13, ∞); below that
+/// accuracy·|p1 − p0| — certified by a bound that holds everywhere on both curves (up to
+/// rounding, for which an allowance is included), not only at samples. Each cubic is the G2
+/// Hermite cubic of its sub-arc (end curvatures matched; where that system has no solution the
+/// handles closest to it; least squares when that is closer), the sub-arcs placed greedily,
+/// each about as long as its bound allows. Regular cubics (no cusp; handles at least 5% of the
+/// chord); bending energy within accuracy·(E + 1/|p1 − p0|) (quadrature). About 30-40 µs per
+/// span in the box at 1e-6, 100-150 µs at 1e-9 (docs). accuracy ∈ [1e-13, ∞); below that
 /// Error(kInvalidArgument).
 std::vector<CubicBezier> elastica_to_beziers(const ElasticaArc& arc, double accuracy);
 
