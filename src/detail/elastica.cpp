@@ -39,6 +39,12 @@ constexpr double kSHalf = 1.85407467730137191843385034719526;
 /// remainder is O(angle⁶) with coefficients below 0.05 (docs), i.e. 1e-18 relative, while the
 /// solved arc would lose accuracy (a short arc near the apex loses ~eps/angle).
 constexpr double kSmallAngle = 1e-4;
+/// A Newton step on the path below this (relative to the arc's width and to |u1|, at least
+/// 1e-2) is taken as the last: the next one would be below rounding.
+constexpr double kFinalStep = 1e-8;
+/// How far past π/2 (radians) an angle still counts as on the box |α| <= π/2 (a few ulp of
+/// an angle sum; solve_canonical).
+constexpr double kBoxSlack = 1e-12;
 /// Where the second derivatives do not exist (|α − β| = π) they are taken at this distance.
 constexpr double kEdgeFloor = 1e-16;
 
@@ -172,12 +178,20 @@ struct PathPoint {
   double dg = std::numeric_limits<double>::quiet_NaN();
 };
 
-PathPoint path_at(const Canonical& k, double u1, bool with_derivative) {
-  PathPoint r;
-  r.u1 = u1;
+/// The start u0 ∈ [−π, 0] of the path's arc ending at u1 (θ(u0) = θ(u1) + q), with sin u0,
+/// cos u0, sin θ(u0) and the trigonometry of u1 it needs.
+struct PathStart {
+  double s1, c1, w1;  ///< sin u1, cos u1, √(1 + sin²u1)
+  double u0, s0, c0, st0, w0;
+};
+
+PathStart path_start(const Canonical& k, double u1) {
+  PathStart r;
   // Trigonometry once: sin²u = sin θ and cos u = cos θ / √(1 + sin θ) give u0 from θ0.
-  const double s1 = std::sin(u1), c1 = std::cos(u1), w1 = std::sqrt(1.0 + s1 * s1);
-  const double t1 = std::atan2(s1 * s1, c1 * w1);
+  r.s1 = std::sin(u1);
+  r.c1 = std::cos(u1);
+  r.w1 = std::sqrt(1.0 + r.s1 * r.s1);
+  const double t1 = std::atan2(r.s1 * r.s1, r.c1 * r.w1);
   const double t0 = std::min(t1 + k.q, kPi);
   double st0, ct0;
   if (t0 <= kPi / 2) {
@@ -188,10 +202,20 @@ PathPoint path_at(const Canonical& k, double u1, bool with_derivative) {
     st0 = std::sin(d0);
     ct0 = -std::cos(d0);
   }
-  st0 = std::max(st0, 0.0);
-  const double w0 = std::sqrt(1.0 + st0);
-  const double s0 = -std::sqrt(st0), c0 = ct0 / w0;
-  r.u0 = std::atan2(s0, c0);  // in [−π, 0]
+  r.st0 = std::max(st0, 0.0);
+  r.w0 = std::sqrt(1.0 + r.st0);
+  r.s0 = -std::sqrt(r.st0);
+  r.c0 = ct0 / r.w0;
+  r.u0 = std::atan2(r.s0, r.c0);
+  return r;
+}
+
+PathPoint path_at(const Canonical& k, double u1, bool with_derivative) {
+  PathPoint r;
+  r.u1 = u1;
+  const PathStart ps = path_start(k, u1);
+  const double s1 = ps.s1, c1 = ps.c1, w1 = ps.w1, s0 = ps.s0, c0 = ps.c0, st0 = ps.st0, w0 = ps.w0;
+  r.u0 = ps.u0;  // in [−π, 0]
   const double dsin = u1 - r.u0 > 0.5 ? s1 - s0 : delta_sin(r.u0, u1);
   r.c = {kSqrt2 * dsin, delta_x(r.u0, u1)};
   // χ − θ1 as the angle from the end tangent to the chord, accurate also where both are near
@@ -227,7 +251,19 @@ PathPoint bracketed_newton(const Canonical& k, double lo, double hi, double glo,
     else
       hi = x;
     double next = x - p.g / p.dg;
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) {
+      next = 0.5 * (lo + hi);
+    } else if (const double scale = std::min(std::max(std::abs(x), 1e-2), x - p.u0);
+               std::abs(next - x) <= kFinalStep * scale) {
+      // Quadratic convergence: the root is within ~(step)² of `next`, below the rounding of u1
+      // and of the arc's width. Take it without evaluating G there (the caller needs only u0,
+      // u1; G's chord is the cost).
+      p.u1 = next;
+      p.u0 = path_start(k, next).u0;
+      p.g *= (next - x) / scale;  // an estimate of the residual there
+      p.dg = std::numeric_limits<double>::quiet_NaN();
+      break;
+    }
     if (std::abs(next - x) <= 2.0 * kEps * std::abs(x) ||
         hi - lo <= 2.0 * kEps * std::max(std::abs(lo), std::abs(hi)))
       break;
@@ -405,14 +441,18 @@ std::vector<Candidate> canonical_candidates(const Canonical& k, int samples) {
   return out;
 }
 
-/// The minimizing piece for canonical (a, b).
-Candidate solve_canonical(const Canonical& k) {
+/// The minimizing piece for canonical (a, b); `guess`: a root of nearby angles (NaN: none).
+Candidate solve_canonical(const Canonical& k,
+                          double guess = std::numeric_limits<double>::quiet_NaN()) {
   const auto [lo, hi] = path_range(k);
   // Inside the box (a ≤ π/2) exactly one root, G(lo) > 0 > G(hi) (docs): Newton from the
   // small-angle solution u1 ≈ (a + 2b)/√(3(a + b)), checked afterwards (a root strictly inside).
-  if (k.a <= kPi / 2 && hi > lo) {
+  // The box's edge α = x + a computed in double lands up to a few ulp past π/2: the same root
+  // continues there (the U-turn and the second roots appear only far beyond), and the scan
+  // below would cost 6× more on every bound node of a restricted fit.
+  if (k.a <= kPi / 2 + kBoxSlack && hi > lo) {
     const double s = k.a + k.b;
-    const double guess = s > 0.0 ? (k.a + 2.0 * k.b) / std::sqrt(3.0 * s) : lo;
+    if (!(guess > lo && guess < hi)) guess = s > 0.0 ? (k.a + 2.0 * k.b) / std::sqrt(3.0 * s) : lo;
     const PathPoint p = bracketed_newton(k, lo, hi, 1.0, guess);
     if (p.u1 > lo && p.u1 < hi && std::abs(p.g) <= 1e-9 * k.a)
       return elastica_candidate(k, p.u0, p.u1);
@@ -509,9 +549,16 @@ bool elastica_feasible(double alpha, double beta) {
 
 namespace {
 
-ElasticaEnergy energy_of(const Reduction& r, double alpha, double beta) {
+ElasticaEnergy energy_of(const Reduction& r, double alpha, double beta,
+                         ElasticaHint* hint = nullptr) {
   if (r.k.a <= kSmallAngle) return small_angle_energy(alpha, beta);
-  const Candidate c = solve_canonical(r.k);
+  const bool same = hint && hint->reversed == r.reversed && hint->mirrored == r.mirrored;
+  const Candidate c =
+      solve_canonical(r.k, same ? hint->u1 : std::numeric_limits<double>::quiet_NaN());
+  if (hint)
+    *hint = {
+        c.kind == ElasticaArc::Kind::kElastica ? c.u1 : std::numeric_limits<double>::quiet_NaN(),
+        r.reversed, r.mirrored};
   ElasticaEnergy e = c.en;
   // On the diagonals |α| = |β| the symmetries E(α, β) = E(β, α) = E(−α, −β) tie ∂E/∂α to
   // ±∂E/∂β: impose it exactly (the solved values differ in the last bits). For α = β on a
@@ -529,7 +576,12 @@ ElasticaEnergy energy_of(const Reduction& r, double alpha, double beta) {
 }  // namespace
 
 ElasticaEnergy elastica_energy(double alpha, double beta) {
-  ElasticaEnergy e = energy_of(reduce(alpha, beta), alpha, beta);
+  ElasticaHint none;
+  return elastica_energy(alpha, beta, none);
+}
+
+ElasticaEnergy elastica_energy(double alpha, double beta, ElasticaHint& hint) {
+  ElasticaEnergy e = energy_of(reduce(alpha, beta), alpha, beta, &hint);
   if (std::isfinite(e.eaa) && std::isfinite(e.eab) && std::isfinite(e.ebb)) return e;
   // Not reached on the tests' dense grids (a root exactly at a fold would get here): central
   // differences of the gradient, which is finite everywhere, one-sided at the domain's edge.

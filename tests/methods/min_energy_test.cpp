@@ -878,6 +878,51 @@ TEST(MinEnergyFit, ConvergesOnShortNearlyStraightData) {
   EXPECT_EQ(failures, 0);
 }
 
+/// Issue 18's 20-point walk: quasi-elastic stopped at projected gradient 7.78e-9 after 200
+/// iterations (and 1000). A node inside the active band (7.8e-9 from its bound, the gradient
+/// pushing outwards) was held there instead of moved onto the bound. Checked independently:
+/// KKT conditions of the output's directions by central differences of Σ E_1/L.
+TEST(MinEnergyFit, Issue18WalkConvergesToAKktPoint) {
+  const FitInput in =
+      input_of({{1.7823, -2.0654}, {3.3194, -2.1738}, {3.4487, -1.8315}, {2.9205, -2.3082},
+                {4.4087, -3.3094}, {4.0094, -1.7516}, {6.1072, -0.6796}, {6.6874, -0.8872},
+                {5.0868, -0.6063}, {5.4886, 0.852},   {4.9722, 0.12},    {6.3907, -0.7327},
+                {9.0581, -1.1198}, {8.6779, -2.0987}, {8.4757, -1.3491}, {8.1541, -2.3829},
+                {9.4373, -0.9691}, {9.1433, -1.6915}, {9.5098, -1.2932}, {10.3593, -1.0084}});
+  const BasicCurveMethod qe = cond_g2(1.0);
+  const FitResult r = fit_with(qe, in);
+  ASSERT_TRUE(r.solver.has_value());
+  EXPECT_EQ(r.solver->status, SolverStatus::kConverged);
+  EXPECT_LT(r.solver->iterations, 30);
+  const std::size_t n = in.points.size();
+  std::vector<ChordAngles> a;
+  for (const Segment& s : r.spline.segments) a.push_back(chord_angles(s.bezier));
+  // Energy of the two spans at node i with its direction turned by d.
+  auto local = [&](std::size_t i, double d) {
+    double e = 0.0;
+    if (i + 1 < n) e += basic_energy(qe, a[i].alpha + d, a[i].beta).e / a[i].length;
+    if (i > 0) e += basic_energy(qe, a[i - 1].alpha, a[i - 1].beta + d).e / a[i - 1].length;
+    return e;
+  };
+  const double h = 1e-6;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double g = (local(i, h) - local(i, -h)) / (2.0 * h);
+    // The node's box: |α| <= 90° on the next chord and |β| <= 90° on the previous one.
+    const double up =
+        std::min(i + 1 < n ? kPi / 2 - a[i].alpha : kPi, i > 0 ? kPi / 2 - a[i - 1].beta : kPi);
+    const double down =
+        std::min(i + 1 < n ? kPi / 2 + a[i].alpha : kPi, i > 0 ? kPi / 2 + a[i - 1].beta : kPi);
+    const double scale = 1.0 / a[std::min(i, n - 2)].length;
+    if (up < 1e-9) {
+      EXPECT_LE(g, 1e-6 * scale) << "node " << i << " on its upper bound";
+    } else if (down < 1e-9) {
+      EXPECT_GE(g, -1e-6 * scale) << "node " << i << " on its lower bound";
+    } else {
+      EXPECT_NEAR(g, 0.0, 1e-6 * scale) << "node " << i;
+    }
+  }
+}
+
 // ---- errors ----
 
 TEST(MinEnergyFit, Errors) {
