@@ -5,6 +5,7 @@
 
 #include "fairspline/error.hpp"
 #include "methods/builtin.hpp"
+#include "methods/min_energy_options.hpp"
 
 namespace fairspline {
 
@@ -24,6 +25,7 @@ void fit_elastic(const FitInput& input, const ElasticOptions& options, ReportLev
   }
   o.method.omega = omega_deg * std::numbers::pi / 180.0;
   o.max_iterations = options.max_iterations;
+  o.search = options.search;
   o.accuracy = options.accuracy;
   o.best_effort = options.best_effort;
   fit_min_energy(input, o, level, out, report);
@@ -74,7 +76,8 @@ MethodInfo make(bool restricted) {
                    .default_value = 200,
                    .min = 1.0,
                    .max = 100000.0,
-                   .doc = "Newton iteration limit (an error if reached)"}},
+                   .doc = "Newton iteration limit (an error if reached)"},
+                  detail::min_energy_search_option()},
       .fit =
           [restricted](const FitInput& in, const nlohmann::json& o, const FitOptions& f,
                        FitResult& out) {
@@ -82,6 +85,7 @@ MethodInfo make(bool restricted) {
             opt.restricted = restricted;
             opt.omega_deg = o.at("omega_deg").get<double>();
             opt.max_iterations = o.at("max_iterations").get<int>();
+            opt.search = detail::parse_min_energy_search(o);
             opt.accuracy = f.curve_accuracy();
             opt.best_effort = f.best_effort;
             fit_elastic(in, opt, f.level, out);

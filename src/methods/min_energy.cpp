@@ -17,6 +17,7 @@
 #include "detail/elastica.hpp"
 #include "detail/input.hpp"
 #include "fairspline/error.hpp"
+#include "methods/min_energy_options.hpp"
 
 namespace fairspline {
 
@@ -460,6 +461,7 @@ struct ChainResult {
   bool converged = false;
   /// Stopped at the accuracy of the energy's own derivatives (converged to that limit).
   bool at_precision = false;
+  std::size_t worst = 0;  ///< the chain node with the largest residual
 };
 
 /// Projected Newton (bound constraints, active set) on one chain, from ch.x.
@@ -468,10 +470,14 @@ struct ChainResult {
 /// weight, ∝ 1/length) before the step: x are angles, so with the raw gradient the measure was
 /// capped by the box width for small data (every fit "converged" at iteration 0) and rounded to
 /// 0 for large data (found by the extremes suite: quasi-elastic gave another curve at 2^-50).
-double projected_gradient(const Chain& ch, std::span<const double> g, double gscale) {
+/// `worst`: the node where it is largest (named by the not-converged error).
+double projected_gradient(const Chain& ch, std::span<const double> g, double gscale,
+                          std::size_t& worst) {
   double pg = 0.0;
+  worst = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
-    pg = std::max(pg, std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i] / gscale, ch.lo[i], ch.hi[i])));
+    const double v = std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i] / gscale, ch.lo[i], ch.hi[i]));
+    if (v > pg) pg = v, worst = i;
   }
   return pg;
 }
@@ -534,6 +540,28 @@ bool corner_moves(Chain& ch, std::span<const double> dir, const std::vector<char
   return moved;
 }
 
+/// Energy of the (at most two) segments of a chain that touch node t, for direction offset x.
+double local_energy(const Chain& ch, const BasicCurveMethod& m, std::size_t t, double x) {
+  const std::size_t k = ch.node.size();
+  const double cx = std::cos(x), sx = std::sin(x);
+  double e = 0.0;
+  if (ch.closed || t + 1 < k) {  // segment t: α at t, β at t+1
+    const std::size_t j = t + 1 == k ? 0 : t + 1;
+    const double ca = cx * ch.ca[t] - sx * ch.sa[t], sa = sx * ch.ca[t] + cx * ch.sa[t];
+    const double cy = std::cos(ch.x[j]), sy = std::sin(ch.x[j]);
+    const double cb = cy * ch.cb[j] - sy * ch.sb[j], sb = sy * ch.cb[j] + cy * ch.sb[j];
+    e += ch.w[t] * energy_cs(m, ca, sa, cb, sb).e;
+  }
+  if (ch.closed || t > 0) {  // segment t−1: α at t−1, β at t
+    const std::size_t i = t == 0 ? k - 1 : t - 1;
+    const double cy = std::cos(ch.x[i]), sy = std::sin(ch.x[i]);
+    const double ca = cy * ch.ca[i] - sy * ch.sa[i], sa = sy * ch.ca[i] + cy * ch.sa[i];
+    const double cb = cx * ch.cb[t] - sx * ch.sb[t], sb = sx * ch.cb[t] + cx * ch.sb[t];
+    e += ch.w[i] * energy_cs(m, ca, sa, cb, sb).e;
+  }
+  return e;
+}
+
 ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const BasicCurveMethod& m = opt.method;
   const std::size_t k = ch.node.size();
@@ -574,7 +602,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     }
   };
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
-    const double pg = projected_gradient(ch, ev.g, gscale);
+    const double pg = projected_gradient(ch, ev.g, gscale, res.worst);
     res.pg = pg;
     if (pg <= tol) {
       res.converged = true;
@@ -663,10 +691,54 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     }
     if (!accepted) break;  // no descent possible at this precision
   }
-  const double pg = projected_gradient(ch, ev.g, gscale);
+  const double pg = projected_gradient(ch, ev.g, gscale, res.worst);
   res.pg = pg;
   res.converged = pg <= tol;
   return res;
+}
+
+/// Curve Ensemble's optimizer: a coordinate search over each free direction, first the best of
+/// the one-degree offsets in its box (Gauss–Seidel sweeps until none moves), then `levels`
+/// refinements with steps 4× smaller each, stepping while the energy goes down.
+void coordinate_search(Chain& ch, const BasicCurveMethod& m, int levels) {
+  const std::size_t k = ch.node.size();
+  double step = kPi / 180.0;
+  for (int level = 0; level <= levels; ++level, step /= 4.0) {
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t t = 0; t < k; ++t) {
+        if (ch.fixed[t]) continue;
+        const double old = ch.x[t];
+        double best = old, best_e = local_energy(ch, m, t, old);
+        if (level == 0) {  // the best of the 360 one-degree offsets
+          for (int o = -180; o < 180; ++o) {
+            const double x = old + o * step;
+            if (o == 0 || x < ch.lo[t] || x > ch.hi[t]) continue;
+            const double e = local_energy(ch, m, t, x);
+            if (e < best_e) best_e = e, best = x;
+          }
+        } else {  // steps of the current size while they lower the energy
+          for (double dirn : {1.0, -1.0}) {
+            for (double x = best + dirn * step; x >= ch.lo[t] && x <= ch.hi[t]; x += dirn * step) {
+              const double e = local_energy(ch, m, t, x);
+              if (!(e < best_e)) break;
+              best_e = e, best = x;
+            }
+          }
+        }
+        if (best != old) {
+          ch.x[t] = best;
+          changed = true;
+        }
+      }
+    }
+  }
+}
+
+/// The box-constrained optimum from the start the options' search asks for.
+ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gscale) {
+  if (opt.search == MinEnergySearch::kCoordinate) coordinate_search(ch, opt.method, 0);
+  return optimize(ch, opt, gscale);
 }
 
 // ---- the elastic basis: coupled constraints |α − β| <= π between neighbouring directions ----
@@ -855,7 +927,10 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     }
     double residual = 0.0;
     for (std::size_t a = 0; a < G; ++a) {
-      if (!bound_nodes[a]) residual = std::max(residual, std::abs(gg[a]) / gscale);
+      if (!bound_nodes[a] && std::abs(gg[a]) / gscale > residual) {
+        residual = std::abs(gg[a]) / gscale;
+        res.worst = g.first[a];
+      }
     }
     // Multipliers once stationary on the face: the worst sign violation is released.
     double worst = 0.0, worst_force = 0.0;
@@ -903,6 +978,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
         }
       }
       res.pg = std::max(residual, worst);
+      if (worst > residual) res.worst = worst_box < k ? worst_box : worst_link;
       if (worst <= tol) {
         res.converged = true;
         return res;
@@ -1060,7 +1136,7 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
   (void)segs;
   MinEnergyOptions restricted = opt;
   restricted.method.basis = MinEnergyBasis::kRestrictedElastic;
-  const ChainResult first = optimize(start, restricted, gscale);
+  const ChainResult first = optimize_searched(start, restricted, gscale);
   ch.x = start.x;
   MinEnergyOptions rest = opt;  // the iteration cap bounds both phases together
   rest.max_iterations = std::max(0, opt.max_iterations - first.iterations);
@@ -1375,7 +1451,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     const double gscale = std::scalbn(wmax, -wexp);
     const ChainResult r = m.basis == MinEnergyBasis::kElastic
                               ? optimize_elastic(ch, options, gscale)
-                              : optimize(ch, options, gscale);
+                              : optimize_searched(ch, options, gscale);
     for (double& w : ch.w) w = std::scalbn(w, wexp);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
@@ -1385,8 +1461,9 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       throw Error(ErrorCode::kNotConverged,
                   "min-energy: the projected Newton method stopped after " +
                       std::to_string(r.iterations) + " iterations with projected gradient " +
-                      sci(r.pg) + " (relative), above the tolerance " + sci(options.tolerance),
-                  ch.node.front());
+                      sci(r.pg) + " (relative, largest at this point), above the tolerance " +
+                      sci(options.tolerance),
+                  ch.node[r.worst]);
     }
     const std::size_t k = ch.node.size();
     u.resize(k);
@@ -1455,6 +1532,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   if (level != ReportLevel::kNone) {
     out.method_report["active"] = rep.active;
     out.method_report["omega_deg"] = m.omega * 180.0 / kPi;
+    out.method_report["search"] = detail::min_energy_search_name(options.search);
     if (elastic) {
       out.method_report["bezier_accuracy"] = options.accuracy;
       out.method_report["spans"] = spans_json(rep.spans);
@@ -1471,31 +1549,7 @@ std::vector<CubicBezier> basic_curve_pieces(const BasicCurveMethod& method, Poin
   return detail::elastica_to_beziers(detail::elastica_arc(p0, p1, alpha, beta), accuracy);
 }
 
-namespace {
-
-/// Energy of the (at most two) segments of a chain that touch node t, for direction offset x.
-double local_energy(const Chain& ch, const BasicCurveMethod& m, std::size_t t, double x) {
-  const std::size_t k = ch.node.size();
-  const double cx = std::cos(x), sx = std::sin(x);
-  double e = 0.0;
-  if (ch.closed || t + 1 < k) {  // segment t: α at t, β at t+1
-    const std::size_t j = t + 1 == k ? 0 : t + 1;
-    const double ca = cx * ch.ca[t] - sx * ch.sa[t], sa = sx * ch.ca[t] + cx * ch.sa[t];
-    const double cy = std::cos(ch.x[j]), sy = std::sin(ch.x[j]);
-    const double cb = cy * ch.cb[j] - sy * ch.sb[j], sb = sy * ch.cb[j] + cy * ch.sb[j];
-    e += ch.w[t] * energy_cs(m, ca, sa, cb, sb).e;
-  }
-  if (ch.closed || t > 0) {  // segment t−1: α at t−1, β at t
-    const std::size_t i = t == 0 ? k - 1 : t - 1;
-    const double cy = std::cos(ch.x[i]), sy = std::sin(ch.x[i]);
-    const double ca = cy * ch.ca[i] - sy * ch.sa[i], sa = sy * ch.ca[i] + cy * ch.sa[i];
-    const double cb = cx * ch.cb[t] - sx * ch.sb[t], sb = sx * ch.cb[t] + cx * ch.sb[t];
-    e += ch.w[i] * energy_cs(m, ca, sa, cb, sb).e;
-  }
-  return e;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOptions& options) {
   FitResult out;
@@ -1507,39 +1561,8 @@ MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOp
   Evaluation ev;
   Scratch cs;
   for (Chain& ch : chains) {
+    coordinate_search(ch, m, 10);
     const std::size_t k = ch.node.size();
-    double step = kPi / 180.0;
-    for (int level = 0; level <= 10; ++level, step /= 4.0) {
-      for (bool changed = true; changed;) {
-        changed = false;
-        for (std::size_t t = 0; t < k; ++t) {
-          if (ch.fixed[t]) continue;
-          const double old = ch.x[t];
-          double best = old, best_e = local_energy(ch, m, t, old);
-          if (level == 0) {  // the best of the 360 one-degree offsets
-            for (int o = -180; o < 180; ++o) {
-              const double x = old + o * step;
-              if (o == 0 || x < ch.lo[t] || x > ch.hi[t]) continue;
-              const double e = local_energy(ch, m, t, x);
-              if (e < best_e) best_e = e, best = x;
-            }
-          } else {  // steps of the current size while they lower the energy
-            for (double dirn : {1.0, -1.0}) {
-              for (double x = best + dirn * step; x >= ch.lo[t] && x <= ch.hi[t];
-                   x += dirn * step) {
-                const double e = local_energy(ch, m, t, x);
-                if (!(e < best_e)) break;
-                best_e = e, best = x;
-              }
-            }
-          }
-          if (best != old) {
-            ch.x[t] = best;
-            changed = true;
-          }
-        }
-      }
-    }
     ref.energy += evaluate(ch, m, ch.x, false, ev, cs);
     for (std::size_t t = 0; t < k; ++t) {  // outgoing direction at corners, as fit_min_energy
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == out.points.size() - 1)) {
@@ -1557,6 +1580,31 @@ MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOp
 #include "methods/builtin.hpp"
 
 namespace fairspline::detail {
+
+namespace {
+constexpr ChoiceTable<MinEnergySearch, 2> kSearch{
+    {{"newton", MinEnergySearch::kNewton}, {"coordinate", MinEnergySearch::kCoordinate}}};
+}  // namespace
+
+OptionSpec min_energy_search_option() {
+  return {.name = "search",
+          .type = OptionType::kChoice,
+          .default_value = "newton",
+          .choices = kSearch.names(),
+          .doc =
+              "which local minimum (the energy is not convex): newton = projected Newton from "
+              "the chord bisectors (fast); coordinate = Curve Ensemble's one-degree "
+              "coordinate search first, then Newton from there (never above that search's "
+              "energy, about 100x slower)"};
+}
+
+MinEnergySearch parse_min_energy_search(const nlohmann::json& options) {
+  return kSearch.parse(options.at("search").get<std::string>());
+}
+
+std::string min_energy_search_name(MinEnergySearch search) {
+  return std::string(kSearch.name(search));
+}
 
 std::vector<MethodInfo> min_energy_methods() {
   auto make = [](std::string name, std::string description, std::string basis) {
@@ -1595,7 +1643,8 @@ std::vector<MethodInfo> min_energy_methods() {
                      .default_value = 200,
                      .min = 1.0,
                      .max = 100000.0,
-                     .doc = "projected Newton iteration limit (an error if reached)"}},
+                     .doc = "projected Newton iteration limit (an error if reached)"},
+                    min_energy_search_option()},
         .fit =
             [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
               MinEnergyOptions opt;
@@ -1611,6 +1660,7 @@ std::vector<MethodInfo> min_energy_methods() {
                                      ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
                                      : BasicCurveMethod::default_omega(opt.method.basis);
               opt.max_iterations = o.at("max_iterations").get<int>();
+              opt.search = parse_min_energy_search(o);
               opt.best_effort = f.best_effort;
               opt.accuracy = f.curve_accuracy();
               fit_min_energy(in, opt, f.level, out);

@@ -18,6 +18,8 @@ CASES = [
     ("min-energy", ["--set", "basis=jaklic-zagar", "--set", "omega_deg=85"],
      {"basis": "jaklic-zagar", "omega_deg": 85}),
     ("cond-g2", ["--set", "lambda=0.5"], {"options": {"lambda": 0.5}}),
+    ("cond-g2", ["--set", "lambda=1.8", "--set", "search=coordinate"],
+     {"options": {"lambda": 1.8}, "search": "coordinate"}),
     ("li-strain", ["--alpha", "0"], {"alpha": 0.0}),
     ("li-strain", ["--closed"], {"closed": True}),
     ("li-combined", [], {}),
@@ -232,6 +234,19 @@ def test_options_from_numpy_values_and_options_dict():
     assert a.options["lambdas"] == [0.25] * len(pts)
     c = fairspline.fit(pts, "quasi-elastic", max_iterations=np.int64(50), omega_deg=np.float32(89.5))
     assert c.options["max_iterations"] == 50 and c.options["omega_deg"] == 89.5
+
+
+def test_search_coordinate_is_one_keyword_away():
+    # Issue 18: the coordinate search's start is never above Newton's local minimum here, and
+    # method_report says which search ran.
+    pts = random_walk(40, 904, 1.9)
+    a = fairspline.fit(pts, "min-energy", basis="yong-cheng")
+    b = fairspline.fit(pts, "min-energy", basis="yong-cheng", search="coordinate")
+    assert a.method_report["search"] == "newton" and b.method_report["search"] == "coordinate"
+    assert b.method_report["energy"] <= a.method_report["energy"] * (1 + 1e-12)
+    with pytest.raises(fairspline.Error) as e:
+        fairspline.fit(pts, "quasi-elastic", search="global")
+    assert e.value.code == "bad_option"
 
 
 def test_repr():

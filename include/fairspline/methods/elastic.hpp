@@ -19,6 +19,7 @@ struct ElasticOptions {
   /// Ω in degrees; NaN: 90 (restricted) or 180.
   double omega_deg = std::numeric_limits<double>::quiet_NaN();
   int max_iterations = 200;
+  MinEnergySearch search = MinEnergySearch::kNewton;
   /// The output Béziers are within accuracy·(diagonal of the points' bounding box) of the exact
   /// pieces (Hausdorff distance).
   double accuracy = FitOptions::kDefaultCurveAccuracy;

@@ -79,8 +79,20 @@ std::vector<CubicBezier> basic_curve_pieces(const BasicCurveMethod& method, Poin
                                             double alpha, double beta, double accuracy);
 
 /// Options of the minimal-energy fit.
+/// How the directions are searched for. E_1 is not convex on the whole box (beyond Ω_conv,
+/// Proposition 6.2), so the energy can have several local minima; each search returns one.
+enum class MinEnergySearch {
+  /// Projected Newton from the chord bisectors: fast; the local minimum of that start.
+  kNewton,
+  /// Curve Ensemble's search first (each direction to the best of its one-degree offsets,
+  /// sweeps until none moves), then projected Newton from there: never above the coordinate
+  /// search's energy; about 100× the time (docs/methods/min-energy.md, "Which minimum").
+  kCoordinate,
+};
+
 struct MinEnergyOptions {
   BasicCurveMethod method;
+  MinEnergySearch search = MinEnergySearch::kNewton;
   int max_iterations = 200;
   /// Stop when the projected gradient's largest entry is below tolerance · max(1/L_i) (the
   /// natural size of the gradient for the data's chord lengths).

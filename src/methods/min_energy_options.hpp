@@ -1,0 +1,18 @@
+// Registry options shared by the methods built on fit_min_energy (min-energy.cpp, elastic.cpp).
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "fairspline/methods/min_energy.hpp"
+#include "fairspline/registry.hpp"
+
+namespace fairspline::detail {
+
+/// The option "search" (MinEnergySearch), its parser and its name for method_report.
+OptionSpec min_energy_search_option();
+MinEnergySearch parse_min_energy_search(const nlohmann::json& options);
+std::string min_energy_search_name(MinEnergySearch search);
+
+}  // namespace fairspline::detail
