@@ -6,6 +6,8 @@
 
 #include "detail/choices.hpp"
 #include "detail/finite.hpp"
+#include "detail/input.hpp"
+#include "detail/nodes.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
@@ -267,7 +269,8 @@ nlohmann::json method_schema(const MethodInfo& method) {
             {"continuity", continuity_name(c.continuity)},
             {"regular", c.regular},
             {"needs_turns", c.needs_turns},
-            {"needs_clamped_tangent", c.needs_clamped_tangent}}},
+            {"needs_clamped_tangent", c.needs_clamped_tangent},
+            {"node_states", c.node_states}}},
           {"examples", std::move(examples)}};
 }
 
@@ -324,6 +327,33 @@ const FitInput& with_tangents_from(const MethodInfo& method, const FitInput& inp
 
 }  // namespace
 
+namespace {
+
+/// A method that does not honour the node model gets an input using it rewritten as kinds, or
+/// an error naming the first point that kinds cannot express.
+const FitInput& with_kinds_only(const MethodInfo& method, const FitInput& input,
+                                FitInput& storage) {
+  if (method.capabilities.node_states || !detail::uses_node_model(input)) return input;
+  std::size_t n = input.points.size();
+  if (input.closed && n >= 2 && detail::coincident(input.points[0], input.points[n - 1])) --n;
+  std::size_t bad = 0;
+  std::optional<FitInput> plain = detail::as_kinds(input, n, bad);
+  if (!plain) {
+    throw Error(ErrorCode::kInvalidArgument,
+                method.name +
+                    " honours only the node kinds smooth, clamped and corner (both sides in the "
+                    "same state, one direction, no corner angle), but point " +
+                    std::to_string(bad) +
+                    " has a half state, a corner angle or two different directions; use a "
+                    "method of the min-energy family, or give that point as a kind",
+                bad);
+  }
+  storage = std::move(*plain);
+  return storage;
+}
+
+}  // namespace
+
 void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               const FitOptions& fit_options, FitResult& out) {
   const MethodInfo& method = find_method(method_name);
@@ -332,8 +362,9 @@ void fit_into(std::string_view method_name, const FitInput& input, const nlohman
                                            nlohmann::json(*fit_options.accuracy).dump());
   }
   nlohmann::json resolved = resolve_options(method, options);
-  FitInput completed;
-  const FitInput& in = with_tangents_from(method, input, resolved, completed);
+  FitInput kinds_only, completed;
+  const FitInput& in =
+      with_tangents_from(method, with_kinds_only(method, input, kinds_only), resolved, completed);
   out.report.reset();
   out.solver.reset();
   out.method_report = nlohmann::json::object();

@@ -20,6 +20,21 @@ enum class PointKind {
   kCorner,   ///< G0 point: the curve splits into independent pieces here
 };
 
+/// State of one side (incoming or outgoing direction) of a node: Curve Ensemble's node model
+/// (docs/methods/min-energy.md, "Node states").
+enum class SideState {
+  kRegular,  ///< optimized together with the other side, which keeps the node's corner angle
+  kClamped,  ///< given: FitInput::in_tangents / out_tangents, or tangents for both sides
+  kFree,     ///< optimized on its own: the adjacent piece ends free here (Remark 2.4 (a))
+};
+
+/// The states of a node's incoming and outgoing sides.
+struct NodeState {
+  SideState in = SideState::kRegular;
+  SideState out = SideState::kRegular;
+  bool operator==(const NodeState&) const = default;
+};
+
 /// What a fit is asked to do. Everything but `points` is optional.
 struct FitInput {
   std::vector<Point> points;
@@ -30,8 +45,18 @@ struct FitInput {
   std::vector<double> knots;
   /// Per-point tangent vectors (empty, or one optional entry per point).
   std::vector<std::optional<Vec2>> tangents;
-  /// Per-point kinds (empty = all smooth).
+  /// Per-point kinds (empty = all smooth). smooth = regular/regular, clamped = clamped/clamped,
+  /// corner = free/free in the node model; give `kinds` or `states`, not both.
   std::vector<PointKind> kinds;
+  /// Per-point side states (empty = from `kinds`).
+  std::vector<NodeState> states;
+  /// Per-point clamped directions of one side (empty, or one optional entry per point); a
+  /// side given here must not also be given by `tangents`, which sets both sides.
+  std::vector<std::optional<Vec2>> in_tangents, out_tangents;
+  /// Per-point corner angle in degrees, from the incoming to the outgoing direction
+  /// (counterclockwise positive), kept by a regular node while its direction is optimized;
+  /// with one clamped direction it gives the other side's (empty = all 0).
+  std::vector<double> corners_deg;
   /// Clamped end tangents of an open curve (derivative with respect to the knot parameter
   /// for C1 methods; only the direction matters for G1 methods).
   std::optional<Vec2> start_tangent;

@@ -83,6 +83,10 @@ struct Capabilities {
   bool needs_turns = false;
   /// Unique only with a clamped tangent (or a closed curve with an odd number of points).
   bool needs_clamped_tangent = false;
+  /// Honours Curve Ensemble's node model (FitInput::states, in_tangents, out_tangents,
+  /// corners_deg). Other methods get inputs that `kinds` can express rewritten as kinds, and
+  /// an error for the rest.
+  bool node_states = false;
   /// Example requests (JSON fit requests with at least "points") that the method fits: the
   /// fuzzer's seeds, the extremes suite's and the benchmarks' inputs, the docs' examples.
   std::vector<std::string> examples{};

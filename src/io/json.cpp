@@ -21,6 +21,9 @@ constexpr detail::ChoiceTable<ReportLevel, 3> kReportLevels{
 constexpr detail::ChoiceTable<PointKind, 3> kPointKinds{{{"smooth", PointKind::kSmooth},
                                                          {"clamped", PointKind::kClamped},
                                                          {"corner", PointKind::kCorner}}};
+constexpr detail::ChoiceTable<SideState, 3> kSideStates{{{"regular", SideState::kRegular},
+                                                         {"clamped", SideState::kClamped},
+                                                         {"free", SideState::kFree}}};
 constexpr detail::ChoiceTable<SolverStatus, 4> kSolverStatuses{
     {{"converged", SolverStatus::kConverged},
      {"conditioning_limit", SolverStatus::kConditioningLimit},
@@ -31,9 +34,8 @@ constexpr detail::ChoiceTable<SolverStatus, 4> kSolverStatuses{
 template <class E, std::size_t N>
 E parse_choice(const detail::ChoiceTable<E, N>& table, std::string_view text, const char* what) {
   if (const std::optional<E> v = table.find(text)) return *v;
-  throw Error(ErrorCode::kInvalidArgument,
-              std::string(what) + " must be " + table.or_list() + ", got '" + std::string(text) +
-                  "'");
+  throw Error(ErrorCode::kInvalidArgument, std::string(what) + " must be " + table.or_list() +
+                                               ", got '" + std::string(text) + "'");
 }
 
 }  // namespace
@@ -41,8 +43,9 @@ E parse_choice(const detail::ChoiceTable<E, N>& table, std::string_view text, co
 namespace {
 
 constexpr const char* kInputFields[] = {
-    "points", "closed",        "tangents",    "kinds",   "method",   "options",    "alpha",
-    "knots",  "start_tangent", "end_tangent", "lambdas", "accuracy", "best_effort"};
+    "points",        "closed",      "tangents", "kinds",    "states",     "in_tangents",
+    "out_tangents",  "corners_deg", "method",   "options",  "alpha",      "knots",
+    "start_tangent", "end_tangent", "lambdas",  "accuracy", "best_effort"};
 
 std::string field_list() {
   std::string s;
@@ -290,6 +293,61 @@ ParsedInput input_from_json(const json& document) {
                        preview(arr[i]),
                    i);
       }
+    }
+  }
+
+  // Per-side directions: [x, y] or null per point.
+  auto side_tangents = [&](const char* field, std::vector<std::optional<Vec2>>& dst) {
+    const auto it = document.find(field);
+    if (it == document.end()) return;
+    const json& arr = require_array(*it, field);
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      if (arr[i].is_null()) {
+        dst.emplace_back(std::nullopt);
+      } else if (arr[i].is_array() && arr[i].size() == 2 && arr[i][0].is_number() &&
+                 arr[i][1].is_number()) {
+        dst.emplace_back(parse_pair(arr[i], indexed(field, i), i));
+      } else {
+        parse_fail(indexed(field, i) + ": expected [x, y] with two numbers or null, got " +
+                       preview(arr[i]),
+                   i);
+      }
+    }
+  };
+  side_tangents("in_tangents", in.in_tangents);
+  side_tangents("out_tangents", in.out_tangents);
+
+  // Node states: one state for both sides, or [in, out].
+  if (auto it = document.find("states"); it != document.end()) {
+    const json& arr = require_array(*it, "states");
+    auto side = [&](const json& v, std::size_t i) {
+      if (v.is_string()) {
+        if (const std::optional<SideState> s = kSideStates.find(v.get<std::string>())) return *s;
+      }
+      parse_fail(indexed("states", i) + ": expected " + kSideStates.or_list() +
+                     ", or a pair [in, out] of them, got " + preview(v),
+                 i);
+    };
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const json& v = arr[i];
+      if (v.is_array() && v.size() == 2) {
+        in.states.push_back({side(v[0], i), side(v[1], i)});
+      } else {
+        const SideState s = side(v, i);
+        in.states.push_back({s, s});
+      }
+    }
+  }
+
+  if (auto it = document.find("corners_deg"); it != document.end()) {
+    const json& arr = require_array(*it, "corners_deg");
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      if (!arr[i].is_number()) {
+        parse_fail(
+            indexed("corners_deg", i) + ": expected a number of degrees, got " + preview(arr[i]),
+            i);
+      }
+      in.corners_deg.push_back(finite_number(arr[i], indexed("corners_deg", i), i));
     }
   }
 
@@ -601,20 +659,33 @@ json error_to_json(const Error& error) {
             {"index", error.index() ? json(*error.index()) : json(nullptr)}}}};
 }
 
-
 ReportLevel parse_report_level(std::string_view text) {
   return parse_choice(kReportLevels, text, "report level");
 }
 
-std::string_view report_level_name(ReportLevel level) { return kReportLevels.name(level); }
+std::string_view report_level_name(ReportLevel level) {
+  return kReportLevels.name(level);
+}
 
 PointKind parse_point_kind(std::string_view text) {
   return parse_choice(kPointKinds, text, "point kind");
 }
 
-std::string_view point_kind_name(PointKind kind) { return kPointKinds.name(kind); }
+std::string_view point_kind_name(PointKind kind) {
+  return kPointKinds.name(kind);
+}
 
-std::string_view solver_status_name(SolverStatus status) { return kSolverStatuses.name(status); }
+SideState parse_side_state(std::string_view text) {
+  return parse_choice(kSideStates, text, "side state");
+}
+
+std::string_view side_state_name(SideState state) {
+  return kSideStates.name(state);
+}
+
+std::string_view solver_status_name(SolverStatus status) {
+  return kSolverStatuses.name(status);
+}
 
 SolverStatus parse_solver_status(std::string_view text) {
   return parse_choice(kSolverStatuses, text, "solver status");

@@ -38,6 +38,7 @@ const Capabilities& elastic_capabilities() {
   static const Capabilities caps{
       .kinds = {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner},
       .continuity = Continuity::kG2,
+      .node_states = true,
       .examples = {R"({"points": [[1,90],[3,105],[6,120],[10,100],[12,85],[15,104],[17,80]]})",
                    R"({"points": [[0,0],[3,0],[1,1],[3,2],[0,2]], "closed": true})",
                    R"({"points": [[0,0],[2,1],[4,0],[6,1]], "kinds": ["clamped","smooth",

@@ -16,6 +16,7 @@
 #include "detail/choices.hpp"
 #include "detail/elastica.hpp"
 #include "detail/input.hpp"
+#include "detail/nodes.hpp"
 #include "fairspline/error.hpp"
 #include "methods/min_energy_options.hpp"
 
@@ -224,6 +225,9 @@ struct Chain {
   std::vector<char> fixed;
   std::vector<double> w;     // per segment: 1 / L
   std::vector<double> a, b;  // per node: the offsets as angles, atan2(sa, ca), atan2(sb, cb)
+  /// Per node: the corner angle from its incoming to its outgoing direction (node model); the
+  /// offsets a above already see the next chord turned back by it.
+  std::vector<double> corner;
   /// Elastic bases: per segment, the warm start of its root-find (a cache, hence mutable).
   mutable std::vector<detail::ElasticaHint> hint;
   std::size_t segments() const { return closed ? node.size() : node.size() - 1; }
@@ -1172,19 +1176,11 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     len[s] = l2 > 1e-290 && l2 < 1e290 ? std::sqrt(l2) : norm(c);  // where squares misbehave
     unit[s] = (1.0 / len[s]) * c;
   }
-  auto kind = [&](std::size_t i) {
-    return i < input.kinds.size() ? input.kinds[i] : PointKind::kSmooth;
-  };
-  std::vector<std::optional<Vec2>> given(n);
-  for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
-    if (kind(i) == PointKind::kClamped) given[i] = input.tangents[i];
-  }
-  if (input.start_tangent) given[0] = input.start_tangent;
-  if (!closed && input.end_tangent) given[n - 1] = input.end_tangent;
-  // Chain boundaries: corners (and the ends of an open curve).
+  const std::vector<detail::ResolvedNode> nodes = detail::resolve_nodes(input, n);
+  // Chain boundaries: nodes with a free side (and the ends of an open curve).
   std::vector<std::size_t> cuts;
   for (std::size_t i = 0; i < n; ++i) {
-    if (kind(i) == PointKind::kCorner && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
+    if (nodes[i].splits() && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
   }
   std::vector<Chain> chains;
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
@@ -1231,14 +1227,37 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     ch.hi.resize(k);
     ch.x.assign(k, 0.0);
     ch.fixed.assign(k, 0);
+    ch.corner.assign(k, 0.0);
     ch.w.resize(nseg);
     // Segment s of the chain runs from node s to node s+1 (cyclic).
     auto seg_of = [&](std::size_t s) { return ch.node[s]; };  // input segment index
     for (std::size_t s = 0; s < nseg; ++s) ch.w[s] = 1.0 / len[seg_of(s)];
     for (std::size_t t = 0; t < k; ++t) {
       const std::size_t i = ch.node[t];
+      const detail::ResolvedNode& node = nodes[i];
       const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
-      const Vec2 en = has_next ? unit[seg_of(t)] : Vec2{};
+      // The node's variable is its incoming direction where it has one (the outgoing one at
+      // the start of a chain); a corner turns the outgoing direction, so the next chord is
+      // seen turned back by it: the node is then a smooth node of stencil angle ψ − corner.
+      double corner = 0.0;
+      std::optional<Vec2> given;
+      if (has_next && has_prev) {
+        corner = node.corner;
+        const bool in_fixed = node.state.in == SideState::kClamped,
+                   out_fixed = node.state.out == SideState::kClamped;
+        if (in_fixed && out_fixed && node.in && node.out) {
+          corner = std::atan2(cross(*node.in, *node.out), dot(*node.in, *node.out));
+        }
+        if (in_fixed || out_fixed) given = node.in;
+      } else if (has_next) {
+        if (node.state.out == SideState::kClamped) given = node.out;
+      } else if (node.state.in == SideState::kClamped) {
+        given = node.in;
+      }
+      ch.corner[t] = corner;
+      const Vec2 en = !has_next       ? Vec2{}
+                      : corner == 0.0 ? unit[seg_of(t)]
+                                      : rotate(unit[seg_of(t)], -corner);
       const Vec2 ep = has_prev ? unit[seg_of(t == 0 ? k - 1 : t - 1)] : Vec2{};
       // Reference direction: the bisector of the chords (rotate ep by ψ/2, half-angle
       // formulas, no trigonometry); at a free end the adjacent chord (Remark 2.4 (a)).
@@ -1246,7 +1265,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       double hc = 1.0, hs = 0.0, half = 0.0;
       if (has_next && has_prev) {
         const double c = dot(ep, en), sn = cross(ep, en);
-        const double psi = std::atan2(sn, c);  // stencil angle ψ_i
+        const double psi = std::atan2(sn, c);  // stencil angle ψ_i (minus the corner)
         if (c > -0.5) {
           hc = std::sqrt(0.5 * (1.0 + c));
           hs = sn / (2.0 * hc);
@@ -1257,7 +1276,9 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
         ref = {ep.x * hc - ep.y * hs, ep.y * hc + ep.x * hs};
         half = 0.5 * std::abs(psi);
         if (std::abs(psi) > 2.0 * omega) {
-          fail(i, "(stencil angle " + deg(psi) + "° > 2Ω = " + deg(2.0 * omega) + "°)");
+          fail(i, "(stencil angle " + deg(psi) +
+                      (corner != 0.0 ? "° after the corner angle " + deg(corner) : std::string()) +
+                      "° > 2Ω = " + deg(2.0 * omega) + "°)");
         }
       } else {
         ref = has_next ? en : ep;
@@ -1269,8 +1290,8 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       ch.b[t] = std::atan2(hs, hc);
       ch.lo[t] = -(omega - half);
       ch.hi[t] = omega - half;
-      if (given[i]) {
-        const Vec2 d = *given[i];
+      if (given) {
+        const Vec2 d = *given;
         const double x = std::atan2(cross(ref, d), dot(ref, d));
         const double al = std::atan2(cross(en, d), dot(en, d));
         const double be = std::atan2(cross(ep, d), dot(ep, d));
@@ -1375,6 +1396,7 @@ const Capabilities& min_energy_capabilities() {
   static const Capabilities caps{
       .kinds = {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner},
       .continuity = Continuity::kG2,
+      .node_states = true,
       .examples = {R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0],[8,1],[9,3]]})",
                    R"({"points": [[0,0],[4,0],[4,4],[0,4]], "closed": true})",
                    R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0]],
@@ -1425,7 +1447,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   out.spline.closed = out.closed;
   out.spline.segments.resize(segs);
   out.tangents.resize(n);
-  std::vector<Vec2> u;  // unit direction per chain node
+  std::vector<Vec2> u, uout;  // unit incoming and outgoing direction per chain node
   // Elastic bases: the Béziers' tolerance, relative to the data's size.
   double tolerance = 0.0;
   if (elastic) {
@@ -1467,6 +1489,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     }
     const std::size_t k = ch.node.size();
     u.resize(k);
+    uout.resize(k);
     for (std::size_t t = 0; t < k; ++t) {
       const double x = ch.x[t];
       if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
@@ -1475,9 +1498,10 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       double sx, cx;
       sincos_small(x, sx, cx);
       u[t] = {ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
+      uout[t] = ch.corner[t] == 0.0 ? u[t] : rotate(u[t], ch.corner[t]);
       // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
-        out.tangents[ch.node[t]] = u[t];
+        out.tangents[ch.node[t]] = uout[t];
       }
     }
     // Each segment's cubic from the unit directions: cos/sin of α, β against the chord.
@@ -1487,7 +1511,8 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       const Point p0 = out.points[seg], p1 = out.points[seg + 1 == n ? 0 : seg + 1];
       const double L = 1.0 / ch.w[s];
       const Vec2 c = (p1 - p0) * ch.w[s];
-      const double ca = dot(u[i], c), sa = cross(c, u[i]), cb = dot(u[j], c), sb = cross(c, u[j]);
+      const double ca = dot(uout[i], c), sa = cross(c, uout[i]), cb = dot(u[j], c),
+                   sb = cross(c, u[j]);
       if (elastic) {
         // Relative to the chord; data too large for a finite diagonal: the accuracy itself.
         double relative = tolerance / norm(p1 - p0);
@@ -1506,7 +1531,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
       const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
       out.spline.segments[seg] = {
-          {{p0, p0 + (L * sp.s0 / 3.0) * u[i], p1 - (L * sp.s1 / 3.0) * u[j], p1}},
+          {{p0, p0 + (L * sp.s0 / 3.0) * uout[i], p1 - (L * sp.s1 / 3.0) * u[j], p1}},
           out.knots[seg],
           out.knots[seg + 1],
           seg};

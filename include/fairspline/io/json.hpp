@@ -22,9 +22,7 @@ struct ParsedInput {
   std::optional<bool> best_effort;                    ///< "best_effort" (FitOptions::best_effort)
   /// FitOptions at `level` with the request's accuracy and best_effort where it gives them.
   FitOptions fit_options(ReportLevel level) const {
-    return {.level = level,
-            .accuracy = accuracy,
-            .best_effort = best_effort.value_or(false)};
+    return {.level = level, .accuracy = accuracy, .best_effort = best_effort.value_or(false)};
   }
 };
 
@@ -107,6 +105,10 @@ std::string_view report_level_name(ReportLevel level);
 /// "corner" -> PointKind::kCorner etc.; anything else throws kInvalidArgument.
 PointKind parse_point_kind(std::string_view text);
 std::string_view point_kind_name(PointKind kind);
+
+/// "regular" | "clamped" | "free" -> SideState; anything else throws kInvalidArgument.
+SideState parse_side_state(std::string_view text);
+std::string_view side_state_name(SideState state);
 
 /// A small aligned two-column table for humans: method, segments, bending, linearized and
 /// curvature-variation energies, length, regular yes/no, max tangent jump, max curvature jump
