@@ -127,7 +127,7 @@ run_step("building the parent" ${CMAKE_COMMAND} --build ${build} --config Debug 
 file(GLOB_RECURSE built LIST_DIRECTORIES false RELATIVE ${build} ${build}/*)
 list(FILTER built EXCLUDE REGEX "(^|/)CMakeFiles/")
 list(FILTER built INCLUDE REGEX
-     "(^|/)(fairspline|fairspline_tests|fairspline_bench|fairspline_load_test|fuzz_[a-z]+_replay)(\\.exe)?$|(^|/)_core\\..*(\\.so|\\.pyd)$")
+     "(^|/)(fairspline|fairspline_tests|fairspline_bench|fairspline_stress|fairspline_load_test|fuzz_[a-z]+_replay)(\\.exe)?$|(^|/)_core\\..*(\\.so|\\.pyd)$")
 if(built)
   message(FATAL_ERROR "consumer_subdir: fairspline built its own programs in a parent: ${built}")
 endif()
