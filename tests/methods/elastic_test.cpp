@@ -325,3 +325,49 @@ TEST(ElasticSpline, OptionsAndErrors) {
 
 }  // namespace
 }  // namespace fairspline
+
+namespace fairspline {
+namespace {
+
+/// Stress-suite inputs (issue 18) that `elastic` did not finish. (1) A nearly collinear closed
+/// 4-point curve: stencils within 1e-6 of 180° left the restricted start phase an empty box,
+/// whose fallback (the whole elastic box) broke pair constraints at every step; 200 iterations.
+/// (2) A closed 16-point walk whose line search found no descent at projected gradient 3e-9:
+/// the optimum to double precision, now status conditioning_limit instead of an error.
+TEST(ElasticSpline, StressSuiteInputsFinish) {
+  const FitInput collinear = input_of({{0.0, 0.0},
+                                       {-12.929081080935271, -10.16342230265713},
+                                       {-16.604127761405625, -13.05234001864424},
+                                       {-20.366067925693656, -16.00958984078064}},
+                                      true);
+  const FitInput walk = input_of({{0.0, 0.0},
+                                  {0.20637914266015195, 0.03698414649182722},
+                                  {0.24017140604665688, -0.13348658815165626},
+                                  {0.29358481794639524, -0.11979009323894048},
+                                  {0.29639675200840115, -0.1873799537584222},
+                                  {0.22229014388101553, -0.3566079754220485},
+                                  {0.3447830986203106, -0.4332309405849011},
+                                  {0.41262131947728364, -0.47809225171967235},
+                                  {0.5189064631257038, -0.6488484033966219},
+                                  {0.4202219450187758, -0.7159013148513955},
+                                  {0.42066509964611914, -0.8042933398019012},
+                                  {0.5122083651756383, -0.8973487602054087},
+                                  {0.5482812761808858, -0.8677402840411991},
+                                  {0.6872878413974065, -0.944067983642832},
+                                  {0.7868115476382626, -0.9648499718340858},
+                                  {0.7667287401286701, -1.0292744356241077}},
+                                 true);
+  for (const FitInput* in : {&collinear, &walk}) {
+    const FitResult r = fit("elastic", *in, {}, ReportLevel::kNone);
+    ASSERT_TRUE(r.solver.has_value());
+    EXPECT_NE(r.solver->status, SolverStatus::kIterationLimit);
+    EXPECT_LE(r.solver->residual, 1e-6);
+    // Never above the restricted spline, where the restricted one exists.
+    const FitResult restricted = fit("restricted-elastic", *in, {}, ReportLevel::kNone);
+    EXPECT_LE(r.method_report["energy"].get<double>(),
+              restricted.method_report["energy"].get<double>() * (1 + 1e-9));
+  }
+}
+
+}  // namespace
+}  // namespace fairspline
