@@ -188,9 +188,68 @@ std::optional<Vec2> to_vec(py::handle obj, const std::string& what) {
   return Vec2{a.data()[0], a.data()[1]};
 }
 
+/// The node model's keyword arguments of fit (None: not given).
+struct NodeModelArgs {
+  py::object states = py::none(), in_tangents = py::none(), out_tangents = py::none(),
+             corners_deg = py::none();
+};
+
+fairspline::SideState to_side_state(py::handle s, std::size_t i) {
+  if (!py::isinstance<py::str>(s)) {
+    invalid("states[" + std::to_string(i) +
+                "] must be \"regular\", \"clamped\" or \"free\", or a pair (in, out) of them",
+            i);
+  }
+  try {
+    return fairspline::io::parse_side_state(s.cast<std::string>());
+  } catch (const Error& e) {
+    throw Error(e.code(), "states[" + std::to_string(i) + "]: " + e.what(), i);
+  }
+}
+
+std::vector<std::optional<Vec2>> to_vec_list(const py::object& list, const std::string& what) {
+  std::vector<std::optional<Vec2>> out;
+  if (list.is_none()) return out;
+  if (py::isinstance<py::str>(list)) invalid(what + " must be a list of (x, y) or None");
+  std::size_t i = 0;
+  for (py::handle t : list) {
+    out.push_back(to_vec(t, what + "[" + std::to_string(i) + "]"));
+    ++i;
+  }
+  return out;
+}
+
+void add_node_model(FitInput& in, const NodeModelArgs& a) {
+  if (!a.states.is_none()) {
+    if (py::isinstance<py::str>(a.states)) invalid("states must be a list, not a string");
+    std::size_t i = 0;
+    for (py::handle s : a.states) {
+      if (py::isinstance<py::str>(s)) {
+        const fairspline::SideState both = to_side_state(s, i);
+        in.states.push_back({both, both});
+      } else {
+        const py::sequence pair = py::reinterpret_borrow<py::sequence>(s);
+        if (!py::isinstance<py::sequence>(s) || py::len(pair) != 2) {
+          invalid("states[" + std::to_string(i) + "] must be a state or a pair (in, out)", i);
+        }
+        in.states.push_back({to_side_state(pair[0], i), to_side_state(pair[1], i)});
+      }
+      ++i;
+    }
+  }
+  in.in_tangents = to_vec_list(a.in_tangents, "in_tangents");
+  in.out_tangents = to_vec_list(a.out_tangents, "out_tangents");
+  if (!a.corners_deg.is_none()) {
+    const DoubleArray c = as_double_array(a.corners_deg, "corners_deg", "a 1-D array");
+    if (c.ndim() != 1) invalid("corners_deg must be a 1-D array, got shape " + shape_text(c));
+    in.corners_deg.assign(c.data(), c.data() + c.size());
+  }
+}
+
 FitInput make_input(py::handle points, bool closed, std::optional<double> alpha,
                     const py::object& start_tangent, const py::object& end_tangent,
-                    const py::object& tangents, const py::object& kinds, const py::object& knots) {
+                    const py::object& tangents, const py::object& kinds, const py::object& knots,
+                    const NodeModelArgs& node_model = {}) {
   FitInput in;
   in.points = to_points(points);
   in.closed = closed;
@@ -225,6 +284,7 @@ FitInput make_input(py::handle points, bool closed, std::optional<double> alpha,
       ++i;
     }
   }
+  add_node_model(in, node_model);
   if (!knots.is_none()) {
     const DoubleArray a = as_double_array(knots, "knots", "a 1-D array");
     if (a.ndim() != 1) invalid("knots must be a 1-D array, got shape " + shape_text(a));
@@ -403,10 +463,12 @@ py::object evaluate(const FitResult& r, py::handle t_obj, Quantity what, int ord
 FitResult py_fit(py::handle points, const std::string& method, bool closed,
                  std::optional<double> alpha, const py::object& start_tangent,
                  const py::object& end_tangent, const py::object& tangents, const py::object& kinds,
+                 const py::object& states, const py::object& in_tangents,
+                 const py::object& out_tangents, const py::object& corners_deg,
                  const py::object& knots, const std::string& report, std::optional<double> accuracy,
                  bool best_effort, const py::object& options, const py::kwargs& kwargs) {
-  const FitInput in =
-      make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds, knots);
+  const FitInput in = make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds,
+                                 knots, {states, in_tangents, out_tangents, corners_deg});
   const json opts = options_json(options, kwargs);
   const fairspline::FitOptions fit_options{.level = fairspline::io::parse_report_level(report),
                                            .accuracy = accuracy,
@@ -501,6 +563,16 @@ Arguments:
 )" + pad +
          indented(doc::point_kinds, 17) +
          R"(
+  states         )" +
+         indented(doc::input_states, 17) + "\n" + pad +
+         R"(A list, one per point, of "regular" | "clamped" | "free" or a pair (in, out):
+)" + pad +
+         indented(doc::side_states, 17) + R"(
+  in_tangents, out_tangents
+                 )" +
+         indented(doc::input_side_tangents, 17) + R"(
+  corners_deg    )" +
+         indented(doc::input_corners_deg, 17) + R"(
   knots          )" +
          indented(doc::input_knots, 17) + R"(
   report         "none" | "basic" | "full" (default). )" +
@@ -776,6 +848,8 @@ PYBIND11_MODULE(_core, m) {
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("tangents") = py::none(), py::arg("kinds") = py::none(),
+        py::arg("states") = py::none(), py::arg("in_tangents") = py::none(),
+        py::arg("out_tangents") = py::none(), py::arg("corners_deg") = py::none(),
         py::arg("knots") = py::none(), py::arg("report") = "full", py::arg("accuracy") = py::none(),
         py::arg("best_effort") = false, py::arg("options") = py::none(), keep(fit_doc()));
 

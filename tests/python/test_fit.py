@@ -313,3 +313,28 @@ def test_best_effort_and_accuracy_reach_the_fit():
     assert np.array_equal(coarse.segments, fine.segments)
     rel = abs(coarse.report["bending_energy"] / fine.report["bending_energy"] - 1)
     assert rel < 1e-3
+
+
+def test_node_model_keywords_same_as_json_request(cli, tmp_path):
+    # Issue 19: states, in_tangents, out_tangents and corners_deg reach the library as the JSON
+    # request's fields do (byte-identical output), and kinds-only methods refuse what kinds
+    # cannot express, naming the point.
+    pts = [[0, 0], [1, 2], [3, 3], [5, 2], [6, 0], [8, 1], [9, 3]]
+    states = ["regular", "regular", ["clamped", "free"], "regular", "regular", "regular",
+              "regular"]
+    in_tangents = [None, None, [1, 0.2], None, None, None, None]
+    corners = [0, 0, 0, 30, 0, -20, 0]
+    request = tmp_path / "nodes.json"
+    request.write_text(input_json(pts, states=states, in_tangents=in_tangents,
+                                  corners_deg=corners))
+    text = cli.fit_json(str(request))
+    curve = fairspline.fit(pts, states=[tuple(s) if isinstance(s, list) else s for s in states],
+                           in_tangents=in_tangents, corners_deg=np.array(corners, float))
+    assert curve.to_json() + "\n" == text
+    assert curve.method_report["pieces"] == 2
+    with pytest.raises(fairspline.Error) as e:
+        fairspline.fit(pts, "li-strain", corners_deg=corners)
+    assert e.value.code == "invalid_argument" and e.value.index == 3
+    with pytest.raises(fairspline.Error) as e:
+        fairspline.fit(pts, states=["regular", "sideways"] + ["regular"] * 5)
+    assert e.value.code == "invalid_argument" and e.value.index == 1
