@@ -194,6 +194,8 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}, boo
     Geometry::Piece& p = g.piece[l];
     p.lambda1 = g.D(k, k + 2) / g.D(k, k + 1);
     p.lambda2 = g.D(k, k + 2) / g.D(k + 1, k + 2);
+    // Reported for every piece (method_report), swept or not.
+    p.convex = p.lambda1 > 0 && p.lambda2 > 0;
     if (!sweeps) continue;
     if (p.lambda1 < 0 && p.lambda2 < 0) {
       throw Error(ErrorCode::kInvalidArgument,
@@ -203,7 +205,6 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}, boo
                       " < 0); the sweeps of Section 4 (Theorem 4.1) do not cover this piece",
                   k);
     }
-    p.convex = p.lambda1 > 0 && p.lambda2 > 0;
     if (p.convex) {
       p.phi1 = *kozak_krajnc_phi1(p.lambda1, p.lambda2);
       p.phi2 = *kozak_krajnc_phi2(p.lambda1, p.lambda2);

@@ -279,6 +279,46 @@ TEST(KozakKrajncSpline, AllDirectionsPrescribedSolvesEachPieceExactly) {
   EXPECT_EQ(outside, 1);  // found such a direction
 }
 
+TEST(KozakKrajncSpline, ConvexIsReportedWhenEveryDirectionIsGiven) {
+  // Regression: segments[].convex (λ1, λ2 > 0) was false whenever every direction was given (no
+  // sweeps), even for convex data. λ from the points alone (D02/D01, D02/D12).
+  auto convex_of = [](const std::vector<Point>& T, std::size_t k) {
+    return D(T, k, k + 2) / D(T, k, k + 1) > 0 && D(T, k, k + 2) / D(T, k + 1, k + 2) > 0;
+  };
+  FitInput in;
+  // The paper's data 1 (λ = 2, 2: convex) and data 3 (λ = 1/2, −1/2: an inflection), one piece.
+  in.points = {{-4, -4}, {0, 0}, {4, 0}, {8, -4}};
+  in.start_tangent = Vec2{2, 3};
+  in.end_tangent = Vec2{2, -3};
+  FitResult r = fit("kozak-krajnc", in);
+  EXPECT_FALSE(r.method_report.at("sweeps").get<bool>());
+  EXPECT_TRUE(r.method_report.at("segments").at(0).at("convex").get<bool>());
+  in.points = {{-4, -4}, {0, 0}, {4, 0}, {10, 4}};
+  in.start_tangent = Vec2{-2, 2};
+  in.end_tangent = Vec2{-1, 2};
+  r = fit("kozak-krajnc", in);
+  EXPECT_FALSE(r.method_report.at("segments").at(0).at("convex").get<bool>());
+  // Three pieces of a walk turning left by 0.3 rad at T1..T7 and right by 0.6 at T8 (pieces 1, 2
+  // convex, an inflection in piece 3), with the directions the sweeps chose given at every
+  // breakpoint: the same flags with and without sweeps.
+  std::vector<Point> T{{0, 0}};
+  for (int i = 0; i < 9; ++i)
+    T.push_back(T.back() + from_angle(0.3 * std::min(i, 7) - (i == 8 ? 0.6 : 0.0)));
+  in = FitInput{};
+  in.points = T;
+  const FitResult swept = fit("kozak-krajnc", in);
+  in.tangents.assign(T.size(), std::nullopt);
+  for (std::size_t i = 0; i < T.size(); i += 3) in.tangents[i] = swept.tangents[i];
+  const FitResult given = fit("kozak-krajnc", in);
+  EXPECT_FALSE(given.method_report.at("sweeps").get<bool>());
+  for (std::size_t l = 0; l < 3; ++l) {
+    const bool expected = convex_of(T, 3 * l);
+    EXPECT_EQ(expected, l < 2) << l;
+    EXPECT_EQ(given.method_report.at("segments").at(l).at("convex").get<bool>(), expected) << l;
+    EXPECT_EQ(swept.method_report.at("segments").at(l).at("convex").get<bool>(), expected) << l;
+  }
+}
+
 TEST(KozakKrajncSpline, ExtremeScalesGiveTheSameCurveScaled) {
   // The constants (2.6) multiply chord coordinates; the method and the solver work on data
   // scaled by powers of two, so 1e±300 data give the same curve (and α ∝ scale).
