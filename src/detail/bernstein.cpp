@@ -71,8 +71,8 @@ void subdivide(const double* b, int rn, double* left, double* right) {
   const int n = degree_of<N>(rn);
   double w[kBernsteinMaxDegree + 1];
   for (int i = 0; i <= n; ++i) w[i] = b[i];
-  left[0] = w[0];
-  right[n] = w[n];
+  left[0] = b[0];
+  right[n] = b[n];
   if constexpr (N > 0) {
     midpoint_levels<N, N>(w, left, right);
   } else {
@@ -82,6 +82,23 @@ void subdivide(const double* b, int rn, double* left, double* right) {
       right[n - r] = w[n - r];
     }
   }
+}
+
+/// Splits coefficients b (degree n, on [lo, hi]) at the local parameter t into left and right
+/// halves by de Casteljau; `left` or `right` may be `b`.
+void split_at(const double* b, int n, double t, double* left, double* right) {
+  double w[kBernsteinMaxDegree + 1];
+  for (int i = 0; i <= n; ++i) w[i] = b[i];
+  const double s = 1.0 - t;
+  double l[kBernsteinMaxDegree + 1];
+  l[0] = b[0];
+  right[n] = b[n];
+  for (int r = 1; r <= n; ++r) {
+    for (int i = 0; i <= n - r; ++i) w[i] = s * w[i] + t * w[i + 1];
+    l[r] = w[0];
+    right[n - r] = w[n - r];
+  }
+  for (int i = 0; i <= n; ++i) left[i] = l[i];
 }
 
 /// Value and first two derivatives of the Bernstein polynomial b (degree n ≥ 1) at local u in
@@ -167,8 +184,29 @@ double refine(const double* b, int rn) {
   return u;
 }
 
+/// Whether the differences b[i+1] − b[i] (the derivative's coefficients) keep one sign.
 template <int N>
-BernsteinRoots isolate(const BernsteinPoly& p, double resolution) {
+bool monotone(const double* b, int rn) {
+  const int n = degree_of<N>(rn);
+  bool up = false, down = false;
+  for (int i = 0; i < n; ++i) {
+    up |= b[i + 1] > b[i];
+    down |= b[i + 1] < b[i];
+  }
+  return !(up && down);
+}
+
+/// Smallest |b[i]|, i = 0..n.
+template <int N>
+double min_abs(const double* b, int rn) {
+  const int n = degree_of<N>(rn);
+  double m = std::abs(b[0]);
+  for (int i = 1; i <= n; ++i) m = std::min(m, std::abs(b[i]));
+  return m;
+}
+
+template <int N>
+BernsteinRoots isolate(const BernsteinPoly& p, double resolution, double touch) {
   BernsteinRoots out;
   const int n = degree_of<N>(p.degree);
   struct Item {
@@ -184,6 +222,13 @@ BernsteinRoots isolate(const BernsteinPoly& p, double resolution) {
   stack[top].hi = 1.0;
   for (int i = 0; i <= n; ++i) stack[top].b[i] = p.b[i];
   ++top;
+  // Intervals without sign variation where p comes within `touch` of zero.
+  struct Interval {
+    double lo, hi;
+  };
+  constexpr int kSuspects = 8;
+  Interval suspect[kSuspects];
+  int nsuspect = 0;
   auto push_root = [&out](double u, int count) {
     if (out.count == BernsteinRoots::kCapacity) {
       out.overflow = true;
@@ -194,9 +239,27 @@ BernsteinRoots isolate(const BernsteinPoly& p, double resolution) {
   while (top > 0) {
     Item& item = stack[--top];
     const int v = sign_variations<N>(item.b, n);
-    if (v == 0) continue;
     const double lo = item.lo, hi = item.hi, width = hi - lo;
-    if (v == 1 && item.b[0] != 0.0 && item.b[n] != 0.0) {
+    if (v == 0) {
+      // No root here. p ≥ min |b| in absolute value (convex hull), so p can touch zero within
+      // `touch` only if that is small: remembered for the pass below.
+      if (touch > 0.0 && min_abs<N>(item.b, n) <= touch) {
+        // Intervals come in increasing order: one that continues the last suspect (or finds no
+        // room) extends it.
+        if (nsuspect > 0 && (lo <= suspect[nsuspect - 1].hi || nsuspect == kSuspects)) {
+          suspect[nsuspect - 1].hi = std::max(suspect[nsuspect - 1].hi, hi);
+        } else {
+          suspect[nsuspect++] = {lo, hi};
+        }
+      }
+      continue;
+    }
+    // One root, unless (with `touch`) p may also touch zero beside it: at an end of the
+    // interval (a split point) it is that small and p is not monotone (its derivative's
+    // coefficients, the differences, change sign).
+    if (v == 1 && item.b[0] != 0.0 && item.b[n] != 0.0 &&
+        (!(touch > 0.0) || width <= resolution ||
+         (std::abs(item.b[0]) > touch && std::abs(item.b[n]) > touch) || monotone<N>(item.b, n))) {
       push_root(lo + width * refine<N>(item.b, n), 1);
       continue;
     }
@@ -215,6 +278,34 @@ BernsteinRoots isolate(const BernsteinPoly& p, double resolution) {
     if (left.b[n] == 0.0) push_root(mid, 1);  // a root exactly at the split point
     top += 2;
   }
+  if (nsuspect > 0) {
+    // Near tangencies: roots of p' in a suspect interval (widened by a quarter on each side, so
+    // that a minimum on its end is inside) where |p| has a local minimum (p·p'' ≥ 0) of at most
+    // `touch`. The derivative is isolated only there, on p's coefficients over that interval.
+    for (int k = 0; k < nsuspect; ++k) {
+      const double w = suspect[k].hi - suspect[k].lo;
+      const double a = std::max(0.0, suspect[k].lo - 0.25 * w);
+      const double b = std::min(1.0, suspect[k].hi + 0.25 * w);
+      double local[kBernsteinMaxDegree + 1], scratch[kBernsteinMaxDegree + 1];
+      for (int i = 0; i <= n; ++i) local[i] = p.b[i];
+      if (b < 1.0) split_at(local, n, b, local, scratch);      // [0, b]
+      if (a > 0.0) split_at(local, n, a / b, scratch, local);  // [a, b]
+      BernsteinPoly d;
+      d.degree = n - 1;
+      for (int i = 0; i < n; ++i) d.b[i] = n * (local[i + 1] - local[i]);
+      if (d.degree < 1) continue;
+      const BernsteinRoots extrema = isolate<0>(d, resolution / (b - a), 0.0);
+      for (int i = 0; i < extrema.count; ++i) {
+        const double t = extrema.items[i].u, u = a + t * (b - a);
+        if (u < suspect[k].lo - resolution || u > suspect[k].hi + resolution) continue;
+        double value = 0.0, d1 = 0.0, d2 = 0.0;
+        eval_with_derivatives<0>(local, n, t, value, d1, d2);
+        if (std::abs(value) <= touch && !(value * d2 < 0.0)) push_root(u, 0);
+      }
+    }
+    std::sort(out.items.begin(), out.items.begin() + out.count,
+              [](const BernsteinRoot& x, const BernsteinRoot& y) { return x.u < y.u; });
+  }
   return out;
 }
 
@@ -230,14 +321,14 @@ double BernsteinPoly::eval(double u) const {
   return w[0];
 }
 
-BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution) {
+BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution, double touch) {
   switch (p.degree) {
     case 3:
-      return isolate<3>(p, resolution);
+      return isolate<3>(p, resolution, touch);
     case 9:
-      return isolate<9>(p, resolution);
+      return isolate<9>(p, resolution, touch);
     default:
-      return isolate<0>(p, resolution);
+      return isolate<0>(p, resolution, touch);
   }
 }
 

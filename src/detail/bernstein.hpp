@@ -26,7 +26,7 @@ struct BernsteinRoot {
   double u = 0.0;
   /// Number of sign variations of the Bernstein coefficients on the final interval: 1 for an
   /// isolated simple root; more for a cluster narrower than the resolution (a multiple root, or
-  /// roots closer than rounding can separate).
+  /// roots closer than rounding can separate); 0 for a near tangency (see `touch` below).
   int count = 1;
 };
 
@@ -40,8 +40,11 @@ struct BernsteinRoots {
 
 /// Isolates and refines the real roots of `p` in [0, 1]. Intervals are halved until Descartes'
 /// bound is 0 or 1, or until they are narrower than `resolution` (then reported as a cluster).
-/// A polynomial whose coefficients all vanish has no isolated roots: returns none and the caller
-/// must detect that case itself.
-BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution);
+/// With `touch` > 0, an interval without sign variations whose coefficients come within `touch`
+/// of zero (absolute) is halved on as well and reported with count 0 once narrower than
+/// `resolution`: there `p` nearly touches zero, as at a double root that rounding lifted off
+/// the axis (the pair of real roots became complex). A polynomial whose coefficients all vanish
+/// has no isolated roots: returns none and the caller must detect that case itself.
+BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution, double touch = 0.0);
 
 }  // namespace fairspline::detail
