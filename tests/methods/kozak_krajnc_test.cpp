@@ -1,6 +1,7 @@
 // Tests of the Kozak–Krajnc building blocks (src/methods/kozak_krajnc.cpp): Table 3.1's
 // constants, the withheld φ values of Section 3, Lemmas 2.1–2.3 as properties, the existence
-// predicates of Theorems 2.4 and 2.5 on the paper's data.
+// predicates of Theorems 2.4 and 2.5 on the paper's data, and the single-piece solver (all
+// solutions, multiple ones to full precision with exact multiplicities).
 #include "fairspline/methods/kozak_krajnc.hpp"
 
 #include <gtest/gtest.h>
@@ -10,9 +11,11 @@
 #include <cstdio>
 #include <optional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "fairspline/error.hpp"
+#include "methods/kozak_krajnc_detail.hpp"
 #include "test_util.hpp"
 
 namespace fairspline {
@@ -170,8 +173,9 @@ TEST(KozakKrajncSolve, Table32) {
   // The withheld Table 3.2, computed here and independently (exact resultants in SymPy,
   // tests/py/test_kozak_krajnc.py). Data 1: the uniform cubic through the symmetric points,
   // a single solution where the curves (2.3) touch with contact order 3 (α for the printed
-  // d0 = (2, 3); the table's δ = 1 would divide them by 4). Data 2: t = (1 − 1/√3, 1/√3),
-  // α = 3 + 3√3. Data 3: one simple solution.
+  // d0 = (2, 3); the table's δ = 1 would divide them by 4), refined to full precision although
+  // Newton on (2.3) reaches only ~1e-5 there. Data 2: t = (1 − 1/√3, 1/√3), α = 3 + 3√3.
+  // Data 3: one simple solution.
   struct Row {
     double t1, t2, alpha0, alpha3;
     int multiplicity;
@@ -179,7 +183,7 @@ TEST(KozakKrajncSolve, Table32) {
   };
   const double r3 = std::sqrt(3.0);
   const Row rows[3] = {
-      {1.0 / 3, 2.0 / 3, 6, 6, 3, 1e-4},
+      {1.0 / 3, 2.0 / 3, 6, 6, 3, 1e-14},
       {1 - 1 / r3, 1 / r3, 3 + 3 * r3, 3 + 3 * r3, 1, 1e-13},
       {0.450046590620398, 0.583424586275439, 12.164220336736625, 12.182770956783598, 1, 1e-12}};
   for (int k = 0; k < 3; ++k) {
@@ -197,6 +201,160 @@ TEST(KozakKrajncSolve, Table32) {
     EXPECT_EQ(sol.total_multiplicity() % 2, 1) << k;  // odd, as Step 1 of Section 3 says
     EXPECT_EQ(sol.chosen, 0);
     EXPECT_LT(interpolation_residual(T0, T1, T2, T3, kData[k].d0, kData[k].d3, s), r.tol) << k;
+  }
+}
+
+/// Relative error of a solution against the constructed one (t1, t2, α0 = α3 = 1).
+double constructed_error(const KozakKrajncSolution& s, double t1, double t2) {
+  return std::max({std::abs(s.t1 / t1 - 1), std::abs(s.t2 / t2 - 1), std::abs(s.alpha0 - 1),
+                   std::abs(s.alpha3 - 1)});
+}
+
+/// The solution nearest to (t1, t2), or nullptr when none is within 1e-3.
+const KozakKrajncSolution* nearest(const KozakKrajncSolutions& sol, double t1, double t2) {
+  const KozakKrajncSolution* best = nullptr;
+  for (const KozakKrajncSolution& s : sol) {
+    const double d = std::abs(s.t1 - t1) + std::abs(s.t2 - t2);
+    if (d < 1e-3 && (!best || d < std::abs(best->t1 - t1) + std::abs(best->t2 - t2))) best = &s;
+  }
+  return best;
+}
+
+TEST(KozakKrajncSolve, LieDerivativesOfTheClearedSystem) {
+  // The polynomials the solver forms at multiple solutions, checked numerically: L_0 = G, L_1 =
+  // F_t1 G_t2 − F_t2 G_t1, and L_{j+1} the derivative of L_j along X = (−F_t2, F_t1), by central
+  // differences of F and G written out here and of L_j itself.
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> c(-3, 3), t(0.1, 0.9);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double m1 = c(rng), m2 = c(rng), a1 = c(rng), a2 = c(rng);
+    auto F = [&](double x, double y) {
+      return y * y * (1 - y) - (1 + m1) * x * x * (1 - x) + a1 * (y - x) * x * x * y * y;
+    };
+    auto G = [&](double x, double y) {
+      return x * (1 - x) * (1 - x) - (1 + m2) * y * (1 - y) * (1 - y) +
+             a2 * (y - x) * (1 - x) * (1 - x) * (1 - y) * (1 - y);
+    };
+    const double x = t(rng), y = t(rng), h = 1e-6;
+    const std::vector<double> L = detail::kozak_krajnc_lie_derivatives(m1, m2, a1, a2, x, y, 4);
+    ASSERT_EQ(L.size(), 5u);
+    EXPECT_NEAR(L[0], G(x, y), 1e-14 * (1 + std::abs(L[0])));
+    const double Fx = (F(x + h, y) - F(x - h, y)) / (2 * h),
+                 Fy = (F(x, y + h) - F(x, y - h)) / (2 * h);
+    const double Gx = (G(x + h, y) - G(x - h, y)) / (2 * h),
+                 Gy = (G(x, y + h) - G(x, y - h)) / (2 * h);
+    EXPECT_NEAR(L[1], Fx * Gy - Fy * Gx, 1e-7 * (1 + std::abs(L[1]))) << trial;
+    // Along the flow: a step s·X with |s·X| = 1e-5.
+    const double s = 1e-5 / std::hypot(Fx, Fy);
+    const std::vector<double> Lp =
+        detail::kozak_krajnc_lie_derivatives(m1, m2, a1, a2, x - s * Fy, y + s * Fx, 3);
+    const std::vector<double> Lm =
+        detail::kozak_krajnc_lie_derivatives(m1, m2, a1, a2, x + s * Fy, y - s * Fx, 3);
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_NEAR((Lp[j] - Lm[j]) / (2 * s), L[j + 1], 1e-6 * (1 + std::abs(L[j + 1])))
+          << trial << " j " << j;
+    }
+  }
+  // At paper data 1 (a parabola): L_0 = L_1 = L_2 = 0 ≠ L_3 at (1/3, 2/3), contact of order 3.
+  const KozakKrajncConstants k =
+      kozak_krajnc_constants({-4, -4}, {0, 0}, {4, 0}, {8, -4}, {2, 3}, {2, -3});
+  const std::vector<double> L = detail::kozak_krajnc_lie_derivatives(
+      k.mu1, k.mu2, 1 + k.mu1 * (1 + k.lambda1) - k.lambda1 / k.lambda2,
+      1 + k.mu2 * (1 + k.lambda2) - k.lambda2 / k.lambda1, 1.0 / 3, 2.0 / 3, 3);
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(L[j], 0.0, 1e-13) << j;  // rounding; L_3 = 1024/81
+  EXPECT_GT(std::abs(L[3]), 1e-3);
+}
+
+TEST(KozakKrajncSolve, TripleRootsOfParabolasToFullPrecision) {
+  // Four points of a parabola at parameters 0 < t1 < t2 < 1 with its end derivatives: (t1, t2)
+  // solves (2.3) with α0 = α3 = 1, and the curves (2.3) have contact of order exactly 3 there for
+  // every 0 < t1 < t2 < 1 (SymPy, exactly, for P(t) = (t, t²): the Lie derivatives L0 = L1 = L2 =
+  // 0 and L3 = −48 t1⁴ t2⁷ (t1 − 1)⁴ (t1 − t2)⁹ (t2 − 1)⁵ (t1 − t2 − 1)⁴ · const ≠ 0; the
+  // constants (2.6) are affine invariants, so every parabola gives the same system). Data 1 is
+  // one. Random parabolas: integer affine images of P(t) = (3t, 3t²) (control points (0, 0),
+  // (1, 0), (2, 1), (3, 3)), t = k/64: every coordinate is exact in double.
+  std::mt19937_64 rng(29);
+  std::uniform_int_distribution<int> coef(-9, 9), offset(-500, 500), k(4, 60);
+  const int base[4][2] = {{0, 0}, {1, 0}, {2, 1}, {3, 3}};
+  double worst = 0;
+  int cases = 0;
+  while (cases < 400) {
+    const int a = coef(rng), b = coef(rng), c = coef(rng), d = coef(rng);
+    if (a * d - b * c == 0) continue;
+    const int ox = offset(rng), oy = offset(rng);
+    int k1 = k(rng), k2 = k(rng);
+    if (k1 == k2) continue;
+    if (k1 > k2) std::swap(k1, k2);
+    long long ctrl[4][2];
+    for (int i = 0; i < 4; ++i) {
+      ctrl[i][0] = a * base[i][0] + b * base[i][1] + ox;
+      ctrl[i][1] = c * base[i][0] + d * base[i][1] + oy;
+    }
+    // P(j/64) = Σ C(3,i) j^i (64 − j)^(3−i) b_i / 64³, in integers.
+    auto at = [&](int j) {
+      const long long w[4] = {(64 - j) * (64 - j) * (64 - j), 3LL * j * (64 - j) * (64 - j),
+                              3LL * j * j * (64 - j), 1LL * j * j * j};
+      long long x = 0, y = 0;
+      for (int i = 0; i < 4; ++i) x += w[i] * ctrl[i][0], y += w[i] * ctrl[i][1];
+      return Point{static_cast<double>(x) / 262144, static_cast<double>(y) / 262144};
+    };
+    const Point T0 = at(0), T1 = at(k1), T2 = at(k2), T3 = at(64);
+    const Vec2 d0{3.0 * (ctrl[1][0] - ctrl[0][0]), 3.0 * (ctrl[1][1] - ctrl[0][1])};
+    const Vec2 d3{3.0 * (ctrl[3][0] - ctrl[2][0]), 3.0 * (ctrl[3][1] - ctrl[2][1])};
+    const double t1 = k1 / 64.0, t2 = k2 / 64.0;
+    const KozakKrajncSolutions sol = kozak_krajnc_solve(T0, T1, T2, T3, d0, d3);
+    const KozakKrajncSolution* s = nearest(sol, t1, t2);
+    ASSERT_NE(s, nullptr) << "parabola " << a << " " << b << " " << c << " " << d << ", t = " << t1
+                          << ", " << t2 << ": the triple solution is missing";
+    EXPECT_EQ(s->multiplicity, 3) << t1 << " " << t2;
+    const double e = constructed_error(*s, t1, t2);
+    EXPECT_LE(e, 1e-12) << "parabola " << a << " " << b << " " << c << " " << d << ", t = " << t1
+                        << ", " << t2;
+    worst = std::max(worst, e);
+    ++cases;
+  }
+  std::printf("triple roots: worst relative error of t1, t2, alpha0, alpha3: %.2g\n", worst);
+}
+
+TEST(KozakKrajncSolve, DoubleRootsToFullPrecision) {
+  // Data of cubics built to make (t1, t2) a root of multiplicity exactly 2 (checked in exact
+  // arithmetic by tests/py/make_kozak_krajnc_double_roots.py, which generated the table).
+  struct Case {
+    Vec2 v[6];  // T0..T3, d0, d3
+    double t1, t2;
+  };
+  const Case cases[] = {
+#include "methods/kozak_krajnc_double_roots.inc"
+  };
+  double worst = 0;
+  for (const Case& c : cases) {
+    const KozakKrajncSolutions sol =
+        kozak_krajnc_solve(c.v[0], c.v[1], c.v[2], c.v[3], c.v[4], c.v[5]);
+    const KozakKrajncSolution* s = nearest(sol, c.t1, c.t2);
+    ASSERT_NE(s, nullptr) << "t = " << c.t1 << ", " << c.t2 << ": the double solution is missing";
+    EXPECT_EQ(s->multiplicity, 2) << c.t1 << " " << c.t2;
+    const double e = constructed_error(*s, c.t1, c.t2);
+    EXPECT_LE(e, 1e-12) << "t = " << c.t1 << ", " << c.t2;
+    worst = std::max(worst, e);
+  }
+  std::printf("double roots: worst relative error of t1, t2, alpha0, alpha3: %.2g\n", worst);
+}
+
+TEST(KozakKrajncSolve, CloseSolutionsAreToldApartFromADoubleOne) {
+  // Paper data 1 with d0 = (2, 3.05), d3 = (2, −3.0302332169562578) lies next to a fold: two
+  // simple solutions 4.3e-6 apart (exact SymPy reference, 60 digits), besides a third one. A
+  // solver that sees only a singular Jacobian reports them as one double solution.
+  const KozakKrajncSolutions sol =
+      kozak_krajnc_solve({-4, -4}, {0, 0}, {4, 0}, {8, -4}, {2, 3.05}, {2, -3.0302332169562578});
+  const double ref[3][2] = {{0.24361305761751832, 0.5331846203292666},
+                            {0.39426073826876264, 0.71487955541881104},
+                            {0.39426507649803838, 0.71488251180839987}};
+  ASSERT_EQ(sol.count, 3);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(sol.items[i].multiplicity, 1) << i;
+    // The pair is ill-conditioned (sine of the curves' angle 8.5e-7): ε / 8.5e-7 ≈ 3e-10.
+    EXPECT_NEAR(sol.items[i].t1, ref[i][0], 1e-9) << i;
+    EXPECT_NEAR(sol.items[i].t2, ref[i][1], 1e-9) << i;
   }
 }
 

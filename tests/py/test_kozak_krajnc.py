@@ -21,8 +21,8 @@ since c ∉ {0, 1} (the t1⁵ coefficients A1(c−1)c², A2(c−1)c² are non-ze
 
 Checked against the CLI, per case:
   * the solution sets agree: same count; t1, t2 to 1e-10 and α0, α3, energy to 1e-10
-    relative for simple solutions (at a multiple one Newton only reaches ~ε^(1/k), so there
-    the tolerance is 1e-4, and the error is printed);
+    relative for simple solutions, to 1e-12 at multiple ones (the solver refines those to full
+    precision; the errors are printed);
   * the multiplicities agree, and their sum is odd (Brouwer degree argument of Section 3);
   * each CLI solution interpolates: the Bézier T0, T0 + α0 d0/(3|d0|), T3 − α3 d3/(3|d3|), T3
     built from the reported numbers (evaluated in 60-digit arithmetic) passes through T1 at t1
@@ -30,11 +30,12 @@ Checked against the CLI, per case:
   * segments[0] (the chosen solution) is the least-energy solution of the list.
 
 Cases: the three data sets of the paper's Section 3 (their solutions, withheld in the paper's
-Table 3.2, are printed) and random pieces from a fixed seed (decimal coordinates, end
-directions inside the cone (4.1) the CLI accepts) plus fixed pieces with three admissible
-solutions found by an offline search. (Not included: pieces with two solutions closer than
-about 1e-5 in (t1, t2), next to a fold; the CLI then lists them as one solution of multiplicity
-2.) Random pieces the CLI rejects as infeasible (the
+Table 3.2, are printed), random pieces from a fixed seed (decimal coordinates, end
+directions inside the cone (4.1) the CLI accepts), fixed pieces with three admissible
+solutions found by an offline search (one with two of them 4.3e-6 apart, next to a fold), and
+pieces built to have a double or a triple solution at a known rational point: four points of a
+parabola with its end derivatives (contact of order 3 for any parameters) and the constructed
+cubics of make_kozak_krajnc_double_roots.py. Random pieces the CLI rejects as infeasible (the
 sufficient conditions of Theorems 2.4/2.5 fail) are skipped, but at least MIN_RANDOM must fit.
 
 Environment: FAIRSPLINE_CLI = path of the fairspline command (set by CTest).
@@ -58,7 +59,8 @@ mp.mp.dps = 60
 
 T1_TOL = 1e-10           # absolute, on t1, t2 (simple solutions)
 REL_TOL = 1e-10          # relative, on α0, α3, energy (simple solutions)
-MULTIPLE_TOL = 1e-4      # multiple solutions: Newton stalls at ~ε^(1/k)
+MULTIPLE_TOL = 1e-12     # multiple solutions: t1, t2 absolute, α0, α3, energy relative
+ILL_CONDITIONED = 1e-15  # simple solutions: at least this over the normalized Jacobian
 INTERP_TOL = 1e-12       # |P(ti) − Ti| / largest chord, from the reported numbers
 ENERGY_SELF_TOL = 1e-12  # reported energy vs ∫|P''|² of the reported Bézier
 
@@ -99,8 +101,25 @@ MULTI = [
     (DATA1_POINTS, ("2", "3.1"), ("2", "-3.08")),
     (DATA1_POINTS, ("2", "3.015"), ("2", "-3.02")),       # two solutions 0.03 apart
     (DATA1_POINTS, ("2", "3.05"), ("2", "-3.030234375")),  # near the fold: 1.6e-3 apart
+    (DATA1_POINTS, ("2", "3.05"), ("2", "-3.0302332169562578")),  # 4.3e-6 apart
     ([("-4.3", "-3.8"), (0, 0), ("4.1", "0.2"), ("7.7", "-4.4")], ("2.368", "2.88"),
      ("1.4286", "-3.3592")),
+]
+
+# Multiple solutions at known rational points (multiplicity, T, d0, d3, t1, t2; α0 = α3 = 1 for
+# d0, d3 as given): four points of a parabola (integer affine images of (3t, 3t²), scaled to
+# integers) with its end derivatives (contact of order 3 for every 0 < t1 < t2 < 1), and two
+# cubics from make_kozak_krajnc_double_roots.py (order 2).
+MULTIPLE = [
+    (3, [(-1024, 2048), (-619, 2513), (-331, 3665), (-256, 5120)], (1536, 768), (0, 5376),
+     Fraction(5, 16), Fraction(11, 16)),
+    (3, [(0, 0), (90, -9), (360, 396), (384, 768)], (768, -192), (0, 1728),
+     Fraction(1, 8), Fraction(3, 4)),
+    (2, [(-27525120, -13762560), (-18191180, -14812763), (-15008980, -13594093),
+         (18350080, 4587520)], (0, -27525120), (41287680, 25657344),
+     Fraction(11, 32), Fraction(13, 32)),
+    (2, [(2293760, -6881280), (-675375, 3740235), (777385, 6104595), (3440640, 6881280)],
+     (-13762560, 27525120), (15040512, 884736), Fraction(17, 32), Fraction(25, 32)),
 ]
 
 
@@ -327,10 +346,21 @@ def rel(a, b):
     return abs(mp.mpf(a) - b) / abs(b)
 
 
-def check_case(cli, name, T, d0, d3, workdir, stats, expect_count=None, verbose=False):
-    """Returns (fitted: bool, description lines). Raises AssertionError on a disagreement."""
+def check_case(cli, name, T, d0, d3, workdir, stats, expect_count=None, verbose=False,
+               expect_multiple=None):
+    """Returns (fitted: bool, description lines). Raises AssertionError on a disagreement.
+    expect_multiple = (multiplicity, t1, t2): the reference must have exactly that solution, with
+    α0 = α3 = 1."""
     out, proc = run_cli(cli, T, d0, d3, workdir)
     c, F, G, R, ref = reference(T, d0, d3)
+    if expect_multiple is not None:
+        k, r1, r2 = expect_multiple
+        match = [s for s in ref if s.get("exact") == (r1, r2)]
+        assert len(match) == 1 and match[0]["multiplicity"] == k, \
+            "the constructed solution ({}, {}) of multiplicity {} is not in the reference".format(
+                r1, r2, k)
+        a0, a3 = match[0]["alpha0_raw"], match[0]["alpha3_raw"]
+        assert abs(a0 - 1) < mp.mpf(10)**-40 and abs(a3 - 1) < mp.mpf(10)**-40, (a0, a3)
     if out is None:
         # With both ends clamped every direction is given, so the CLI solves the piece exactly:
         # it may refuse only data that have no admissible solution at all.
@@ -368,8 +398,11 @@ def check_case(cli, name, T, d0, d3, workdir, stats, expect_count=None, verbose=
     d0q, d3q = (q(d0[0]), q(d0[1])), (q(d3[0]), q(d3[1]))
     for s_cli, s_ref in zip(sorted(sols, key=lambda s: s["t1"]), ref):
         simple = s_ref["multiplicity"] == 1
-        tol_t = T1_TOL if simple else MULTIPLE_TOL
-        tol_r = REL_TOL if simple else MULTIPLE_TOL
+        # A simple solution is determined to about ε over the sine of the angle between the
+        # curves (2.3) (the normalized Jacobian): next to a fold that exceeds the tolerances.
+        ill = float(ILL_CONDITIONED / abs(s_ref["jacobian"])) if simple else 0.0
+        tol_t = max(T1_TOL, ill) if simple else MULTIPLE_TOL
+        tol_r = max(REL_TOL, ill) if simple else MULTIPLE_TOL
         et = max(abs(mp.mpf(s_cli["t1"]) - s_ref["t1"]), abs(mp.mpf(s_cli["t2"]) - s_ref["t2"]))
         ea = max(rel(s_cli["alpha0"], s_ref["alpha0"]), rel(s_cli["alpha3"], s_ref["alpha3"]))
         ee = rel(s_cli["energy"], s_ref["energy"])
@@ -487,15 +520,21 @@ def main():
     passed = failed = 0
     stats = {}
     rng = random.Random(SEED)
-    cases = [(name, T, d0, d3, 1, True) for name, T, d0, d3 in PAPER]
-    cases += [("multi {}".format(i), T, d0, d3, 3, True) for i, (T, d0, d3) in enumerate(MULTI)]
-    cases += [("random {}".format(i), *random_piece(rng), None, False)
+    cases = [(name, T, d0, d3, 1, True, None) for name, T, d0, d3 in PAPER]
+    cases += [("multi {}".format(i), T, d0, d3, 3, True, None)
+              for i, (T, d0, d3) in enumerate(MULTI)]
+    cases += [("multiple {} (order {})".format(i, k), T, d0, d3, None, True,
+               (k, sp.Rational(t1.numerator, t1.denominator),
+                sp.Rational(t2.numerator, t2.denominator)))
+              for i, (k, T, d0, d3, t1, t2) in enumerate(MULTIPLE)]
+    cases += [("random {}".format(i), *random_piece(rng), None, False, None)
               for i in range(RANDOM_CANDIDATES)]
     fitted_random = 0
     with tempfile.TemporaryDirectory(prefix="fairspline-kk-") as workdir:
-        for name, T, d0, d3, expect, must_fit in cases:
+        for name, T, d0, d3, expect, must_fit, multiple in cases:
             try:
-                fitted, lines = check_case(cli, name, T, d0, d3, workdir, stats, expect)
+                fitted, lines = check_case(cli, name, T, d0, d3, workdir, stats, expect,
+                                           expect_multiple=multiple)
                 assert fitted or not must_fit, "the CLI refused the data"
             except AssertionError as e:
                 failed += 1

@@ -73,7 +73,8 @@ struct KozakKrajncSolution {
   double alpha0 = 0.0;
   double alpha3 = 0.0;
   /// Intersection multiplicity of the two curves (2.3) at (t1, t2): 1 when they cross
-  /// transversally; otherwise the order of contact, estimated numerically (see the docs).
+  /// transversally; otherwise their order of contact k (the first Lie derivative of one along
+  /// the other that does not vanish within rounding; docs/methods/kozak-krajnc.md).
   int multiplicity = 1;
   /// Linearized strain energy ∫₀¹ |P''(t)|² dt of the piece: the rule that picks one solution.
   double energy = 0.0;
@@ -97,7 +98,10 @@ struct KozakKrajncSolutions {
 /// eliminated by the Bézout resultant (a degree-15 polynomial in t2 that always carries the
 /// spurious factor t2³(1−t2)³; the rest has degree ≤ 9), its real roots in (0, 1) are isolated in
 /// Bernstein form by Descartes' rule, t1 follows from the null vector of the Bézout matrix, and
-/// each pair is polished by Newton's method on (2.3). Throws what kozak_krajnc_constants throws.
+/// each pair is polished by Newton's method on (2.3). Where the two curves (2.3) are tangent (a
+/// multiple solution, or close ones) the cluster is resolved through the derivative system
+/// along one curve: a k-fold solution to full precision with multiplicity k, or its distinct
+/// solutions. Throws what kozak_krajnc_constants throws.
 KozakKrajncSolutions kozak_krajnc_solve(Point t0, Point t1, Point t2, Point t3, Vec2 d0, Vec2 d3);
 
 /// The cubic of one solution: control points T0, T0 + α0·d0/3, T3 − α3·d3/3, T3.
