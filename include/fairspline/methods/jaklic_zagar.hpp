@@ -56,7 +56,7 @@ struct JaklicZagarOptions {
 enum class StationaryKind {
   kMinimum,   ///< an interior (strict or, for a straight point, global) minimum
   kMaximum,   ///< an interior maximum: turns above 90° with λ = λ* (the paper's formula)
-  kBoundary,  ///< λ ∈ {0, 1}, an end of the arc: the paper's rule for a 90° turn (u·v = 0)
+  kBoundary,  ///< an exact right angle (u·v = 0): no λ ∈ (0, 1) is stationary, bisector taken
   kNone,      ///< not stationary (bisector or fixed λ away from λ*, a user tangent)
 };
 
@@ -72,11 +72,14 @@ struct JaklicZagarNode {
 
 /// Theorem 6: the direction of (10) with λ_i from (11) for chords a, b with knot intervals
 /// ha = Δt_{i-1}, hb = Δt_i (the root of ρ in (0, 1), chosen without cancellation; the
-/// direction is evaluated in the bisector frame, see the docs). Special cases as in the paper:
-/// u·v = 0 (a 90° turn) gives λ = 1 if z_i = 1 and λ = 0 if z_i = −1 (kind kBoundary);
-/// z_i = 0 with equal directions gives w = ΔT_i. Throws Error(kReversal) for z_i = 0 with
-/// opposite directions, kInvalidArgument for zero or non-finite chords / intervals, kNonFinite if
-/// the result overflows. Only the ratios |a|/|b| and ha/hb matter (scale invariant).
+/// direction is evaluated in the bisector frame, see the docs). Special cases: at an exact right
+/// angle (u·v = 0, decided on the unit chords to 8 ulps) no λ ∈ (0, 1) is stationary and the
+/// direction is Corollary 7's bisector, λ = 1/(1 + |a|/|b|) (kind kBoundary), not the paper's
+/// λ = 1 (z_i = 1) or 0 (z_i = −1), which would stop the curve there
+/// (docs/methods/jaklic-zagar.md); z_i = 0 with equal directions gives w = ΔT_i, as in the paper.
+/// Throws Error(kReversal) for z_i = 0 with opposite directions, kInvalidArgument for zero or
+/// non-finite chords / intervals, kNonFinite if the result overflows. Only the ratios |a|/|b| and
+/// ha/hb matter (scale invariant).
 JaklicZagarNode jaklic_zagar_optimal_node(Vec2 a, Vec2 b, double ha, double hb);
 
 /// (11) alone: λ* ∈ [0, 1] for the chords a, b and knot intervals ha, hb (same special cases
