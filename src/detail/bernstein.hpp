@@ -40,11 +40,12 @@ struct BernsteinRoots {
 
 /// Isolates and refines the real roots of `p` in [0, 1]. Intervals are halved until Descartes'
 /// bound is 0 or 1, or until they are narrower than `resolution` (then reported as a cluster).
-/// With `touch` > 0, an interval without sign variations whose coefficients come within `touch`
-/// of zero (absolute) is halved on as well and reported with count 0 once narrower than
-/// `resolution`: there `p` nearly touches zero, as at a double root that rounding lifted off
-/// the axis (the pair of real roots became complex). A polynomial whose coefficients all vanish
-/// has no isolated roots: returns none and the caller must detect that case itself.
+/// With `touch` > 0, near tangencies are reported too, with count 0: local minima of |p| of at
+/// most `touch` (absolute) that do not reach zero, as at a double root that rounding lifted off
+/// the axis. They are looked for (as roots of p') only in intervals without sign variation whose
+/// coefficients come within `touch` of zero, and in one-root intervals that small at an end
+/// and not monotone. A polynomial whose coefficients all vanish has no isolated roots: returns
+/// none and the caller must detect that case itself.
 BernsteinRoots bernstein_roots(const BernsteinPoly& p, double resolution, double touch = 0.0);
 
 }  // namespace fairspline::detail
