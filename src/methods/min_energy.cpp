@@ -1170,9 +1170,24 @@ std::string deg(double rad) {
   return buf;
 }
 
-/// The chains of the input (split at corners) with references, bounds and fixed directions.
+/// The largest omega_deg a basis accepts, as the infeasibility message advises it.
+std::string omega_limit(MinEnergyBasis basis) {
+  switch (basis) {
+    case MinEnergyBasis::kYongCheng:
+      return "below 70.52 for basis=yong-cheng";
+    case MinEnergyBasis::kJaklicZagar:
+      return "below 90 for basis=jaklic-zagar";
+    case MinEnergyBasis::kElastic:
+      return "at most 180";
+    default:
+      return "at most 90";
+  }
+}
+
+/// The chains of the input (split at free sides) with references, bounds and fixed directions.
 /// Throws Error(kInfeasible) listing every node whose feasible range is empty.
-std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, double omega) {
+std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, double omega,
+                                MinEnergyBasis basis) {
   const std::vector<Point>& P = out.points;
   const std::size_t n = P.size();
   const bool closed = out.closed;
@@ -1319,9 +1334,9 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     throw Error(ErrorCode::kInfeasible,
                 "no admissible curve exists (Theorem 2.3 and Remark 2.4: every stencil angle "
                 "needs |ψ| <= 2Ω and every given tangent an angle <= Ω with its chords): " +
-                    bad +
-                    ". Raise omega_deg (at most 90), change the tangent, split the curve with a "
-                    "corner there, or remove the point",
+                    bad + ". Raise omega_deg (" + omega_limit(basis) +
+                    "), change the tangent, split the curve with a corner there, or remove the "
+                    "point",
                 first_bad);
   }
   return chains;
@@ -1444,7 +1459,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   // The elastic domain is open at 180°: the boxes stop 1e-12 short of it.
   const double omega =
       m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPi * (1.0 - 1e-12)) : m.omega;
-  std::vector<Chain> chains = build_chains(out, input, omega);
+  std::vector<Chain> chains = build_chains(out, input, omega, m.basis);
   const bool elastic = is_elastic(m.basis);
   // Elastic bases: the Béziers of each span, assembled in span order at the end.
   std::vector<std::vector<CubicBezier>> span_pieces(elastic ? (out.closed ? n : n - 1) : 0);
@@ -1588,7 +1603,7 @@ namespace {}  // namespace
 MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOptions& options) {
   FitResult out;
   detail::prepare_input(input, min_energy_capabilities(), "min-energy", out);
-  std::vector<Chain> chains = build_chains(out, input, options.method.omega);
+  std::vector<Chain> chains = build_chains(out, input, options.method.omega, options.method.basis);
   const BasicCurveMethod& m = options.method;
   MinEnergyReference ref;
   ref.angles.assign(out.points.size(), 0.0);

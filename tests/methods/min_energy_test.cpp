@@ -962,6 +962,30 @@ TEST(MinEnergyFit, Issue18WalkConvergesToAKktPoint) {
 
 // ---- errors ----
 
+TEST(MinEnergyFit, InfeasibleMessageGivesTheBasisOmegaLimit) {
+  // Issue 18 (part 5): the advice "raise omega_deg (at most 90)" was printed for every basis,
+  // but basis=yong-cheng accepts only omega_deg < 70.52 (acos 1/3), jaklic-zagar < 90 and
+  // elastic up to 180. Stencil angles 175.4° and −178.7° need 2Ω above them.
+  const FitInput in = input_of({{0, 0}, {3, 0}, {0.5, 0.2}, {4, 0}});
+  struct Case {
+    const char* basis;
+    double omega_deg;
+    const char* limit;
+  };
+  for (const Case& c : {Case{"yong-cheng", 60, "below 70.52"}, Case{"jaklic-zagar", 80, "below 90"},
+                        Case{"elastic", 45, "at most 180"}, Case{"cond-g2", 45, "at most 90"}}) {
+    const Error e = expect_error(ErrorCode::kInfeasible, [&] {
+      (void)fit("min-energy", in, {{"basis", c.basis}, {"omega_deg", c.omega_deg}});
+    });
+    const std::string what = e.what();
+    EXPECT_NE(what.find(std::string("Raise omega_deg (") + c.limit), std::string::npos)
+        << c.basis << ": " << what;
+    if (std::string(c.limit) != "at most 90") {
+      EXPECT_EQ(what.find("(at most 90"), std::string::npos) << c.basis << ": " << what;
+    }
+  }
+}
+
 TEST(MinEnergyFit, Errors) {
   // Stencil angles beyond 2Ω (Theorem 2.3): every offending point listed, index() the first.
   const Point p2{2, 0};
