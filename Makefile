@@ -15,7 +15,7 @@ SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:abort_on_error=1:str
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
 .PHONY: all deps configure build run test bench format format-check clean fuzz fuzz-build \
-  fuzz-smoke-build sanitize
+  fuzz-smoke-build sanitize stress
 
 all: build
 
@@ -54,6 +54,15 @@ fuzz-smoke-build:
 bench: build
 	$(BUILD_DIR)/bench/fairspline_bench --benchmark_min_time=0.2
 	/usr/bin/python3 bench/compare_scipy.py --cli $(CLI)
+
+# `make stress STRESS_COUNT=N`: the optimizers' stress program (tools/stress; docs/hardening.md,
+# "Stress suite"): N cases, each fitted by every iterative method; failing inputs in out/stress.
+STRESS_COUNT ?= 100000
+STRESS_SEED ?= 18
+stress: deps configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target fairspline_stress
+	$(BUILD_DIR)/tools/stress/fairspline_stress --seed $(STRESS_SEED) --count $(STRESS_COUNT) \
+	  --out out/stress --summary-json out/stress/summary.json
 
 # `make fuzz FUZZ_SECONDS=N`: builds the libFuzzer targets of tests/fuzz with clang in
 # $(FUZZ_DIR) (library instrumented, ASan + UBSan) and runs each for N seconds on its committed

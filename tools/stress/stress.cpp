@@ -353,7 +353,9 @@ Case make_case(std::uint64_t seed, std::uint64_t k, std::size_t max_points) {
       if (corners && r.p(0.15)) {
         c.in.kinds[i] = PointKind::kCorner;
       } else if (clamps && r.p(0.1)) {
-        const Vec2 bis = normalized(chord((i + n - 1) % n) + chord(i));
+        // (At a reversal the bisector is undefined: the next chord, an infeasible clamp.)
+        const Vec2 sum = chord((i + n - 1) % n) + chord(i);
+        const Vec2 bis = norm(sum) > 1e-3 ? normalized(sum) : chord(i);
         c.in.kinds[i] = PointKind::kClamped;
         c.in.tangents[i] = rotate(bis, r.u(-20.0, 20.0) * kDeg);
       }
@@ -457,6 +459,9 @@ struct Stats {
   double total_ms = 0.0;
   double worst_kkt = 0.0, worst_allowance = 0.0;  ///< residual, rounding allowance there
   std::uint64_t worst_case = 0;
+  int max_iterations = 0;  ///< and the cases where the maxima were reached
+  double max_ms = 0.0;
+  std::uint64_t max_iterations_case = 0, max_ms_case = 0;
 
   void merge(const Stats& o) {
     fits += o.fits, ok += o.ok, conditioning += o.conditioning;
@@ -467,6 +472,10 @@ struct Stats {
     iterations.insert(iterations.end(), o.iterations.begin(), o.iterations.end());
     ms.insert(ms.end(), o.ms.begin(), o.ms.end());
     total_ms += o.total_ms;
+    if (o.max_iterations > max_iterations) {
+      max_iterations = o.max_iterations, max_iterations_case = o.max_iterations_case;
+    }
+    if (o.max_ms > max_ms) max_ms = o.max_ms, max_ms_case = o.max_ms_case;
     if (o.worst_kkt > worst_kkt) {
       worst_kkt = o.worst_kkt, worst_allowance = o.worst_allowance, worst_case = o.worst_case;
     }
@@ -503,6 +512,7 @@ struct Slot {
 Slot g_slots[256];
 unsigned g_threads = 1;
 std::uint64_t g_seed = 0;
+std::size_t g_max_points = 0;  ///< 0: the default (not in replay commands)
 const std::vector<Variant>* g_variants = nullptr;
 
 void write_number(int fd, std::uint64_t v) {
@@ -529,6 +539,10 @@ extern "C" void on_crash(int sig) {
     write_number(2, g_seed);
     write_text(2, " --start ");
     write_number(2, g_slots[t].k.load());
+    if (g_max_points != 0) {
+      write_text(2, " --max-points ");
+      write_number(2, g_max_points);
+    }
     write_text(2, " --count 1 --save-all --methods ");
     write_text(2, (*g_variants)[static_cast<std::size_t>(v)].label.c_str());
     write_text(2, "\n");
@@ -574,16 +588,20 @@ void save(Shared& sh, const Variant& v, std::uint64_t k, const FitInput& in, con
   }
   kept.emplace(rank, path);
   json j = request_json(in, v.method->name, options);
-  j["_stress"] = {
-      {"seed", sh.args->seed},
-      {"case", k},
-      {"variant", v.label},
-      {"outcome", outcome},
-      {"message", message},
-      {"kkt_residual", kkt},
-      {"shape", c.shape},
-      {"replay", "fairspline_stress --seed " + std::to_string(sh.args->seed) + " --start " +
-                     std::to_string(k) + " --count 1 --methods " + v.label}};
+  // The point counts depend on --max-points: a replay needs it.
+  const std::string max_points = sh.args->max_points == Args{}.max_points
+                                     ? std::string()
+                                     : " --max-points " + std::to_string(sh.args->max_points);
+  j["_stress"] = {{"seed", sh.args->seed},
+                  {"case", k},
+                  {"variant", v.label},
+                  {"outcome", outcome},
+                  {"message", message},
+                  {"kkt_residual", kkt},
+                  {"shape", c.shape},
+                  {"replay", "fairspline_stress --seed " + std::to_string(sh.args->seed) +
+                                 " --start " + std::to_string(k) + " --count 1 --methods " +
+                                 v.label + max_points + " --save-all"}};
   std::ofstream f(path);
   f << j.dump(1) << "\n";
 }
@@ -637,6 +655,10 @@ void run_case(Shared& sh, unsigned t, std::uint64_t k, std::vector<Stats>& stats
       }
       st.iterations.push_back(iterations.value_or(0));
       st.ms.push_back(static_cast<float>(ms));
+      if (st.iterations.back() > st.max_iterations) {
+        st.max_iterations = st.iterations.back(), st.max_iterations_case = k;
+      }
+      if (ms > st.max_ms) st.max_ms = ms, st.max_ms_case = k;
       if (r.solver && r.solver->status == SolverStatus::kConditioningLimit) ++st.conditioning;
       const KktResult kkt = check_optimum(in, r);
       if (kkt.checked) {
@@ -756,6 +778,7 @@ int main(int argc, char** argv) {
 
   g_threads = a.threads;
   g_seed = a.seed;
+  g_max_points = a.max_points == Args{}.max_points ? 0 : a.max_points;
   g_variants = &variants;
   for (int sig : {SIGSEGV, SIGABRT, SIGFPE, SIGBUS, SIGILL}) std::signal(sig, on_crash);
 
@@ -875,7 +898,9 @@ int main(int argc, char** argv) {
                        {"worst_kkt_case", st.worst_case},
                        {"iterations_max", it_max},
                        {"iterations_p99", percentile(st.iterations, 0.99)},
+                       {"iterations_max_case", st.max_iterations_case},
                        {"ms_max", ms_max},
+                       {"ms_max_case", st.max_ms_case},
                        {"ms_p99", percentile(st.ms, 0.99)},
                        {"ms_total", st.total_ms}});
   }
