@@ -1,0 +1,164 @@
+// Inputs that the stress program (tools/stress, issue 18) found failing, kept as fit requests in
+// tests/data/stress/: each must fit without error and return an optimum that the certificate of
+// tools/stress/kkt.hpp accepts (KKT for the min-energy family, G2 joints for Kozak–Krajnc).
+// docs/hardening.md, "Stress suite (issue 18)", says how they were found and how to replay them.
+// Also: the certificate itself accepts converged fits and rejects perturbed ones.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fairspline/error.hpp"
+#include "fairspline/fit.hpp"
+#include "fairspline/io/json.hpp"
+#include "fairspline/registry.hpp"
+#include "stress/kkt.hpp"
+#include "test_util.hpp"
+
+namespace fairspline {
+namespace {
+
+const std::string kDir = std::string(FAIRSPLINE_TEST_DATA_DIR) + "/stress";
+
+/// Every request in tests/data/stress (a test below checks that the directory holds no other).
+const std::vector<std::string> kInputs = {
+    "elastic-kkt-s18-c13108.json",
+    "elastic-kkt-s18-c26699.json",
+    "elastic-kkt-s18-c76397.json",
+    "elastic-not_converged-s18-c10414.json",
+    "elastic-not_converged-s18-c15088.json",
+    "jaklic-zagar-kkt-s18-c455135.json",
+    "kozak-krajnc-internal-non_finite-s18-c771484.json",
+    "kozak-krajnc-internal-non_finite-s18-c945473.json",
+    "kozak-krajnc-not_converged-s18-c10785.json",
+    "kozak-krajnc-not_converged-s18-m60-c10026.json",
+    "kozak-krajnc-not_converged-s18-m60-c10362.json",
+    "kozak-krajnc-not_converged-s18-m60-c3050.json",
+    "kozak-krajnc-not_converged-s18-m60-c5065.json",
+    "quasi-elastic-not_converged-s18-c430846.json",
+    "restricted-elastic-not_converged-s18-c130322.json",
+    "restricted-elastic-not_converged-s18-c214718.json",
+    "restricted-elastic-not_converged-s18-c43473.json",
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+class StressRegression : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(StressRegression, ConvergesToACertifiedOptimum) {
+  const io::ParsedInput p = io::parse_json_input(read_file(kDir + "/" + GetParam()));
+  ASSERT_TRUE(p.method.has_value());
+  FitResult r;
+  try {
+    r = fit(*p.method, p.input, p.options, FitOptions{.level = ReportLevel::kNone});
+  } catch (const Error& e) {
+    FAIL() << error_code_name(e.code()) << ": " << e.what();
+  }
+  if (r.solver) {
+    EXPECT_TRUE(r.solver->status == SolverStatus::kConverged ||
+                r.solver->status == SolverStatus::kConditioningLimit);
+  }
+  const stress::KktResult k = stress::check_optimum(p.input, r);
+  EXPECT_TRUE(k.checked);
+  EXPECT_TRUE(k.pass) << k.what;
+}
+
+std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string s = info.param.substr(0, info.param.rfind('.'));
+  std::replace_if(
+      s.begin(), s.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+  return s;
+}
+
+INSTANTIATE_TEST_SUITE_P(Saved, StressRegression, ::testing::ValuesIn(kInputs), test_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(StressRegression);
+
+TEST(StressRegressions, EverySavedInputIsTested) {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(kDir)) {
+    if (e.path().extension() == ".json") files.push_back(e.path().filename().string());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<std::string> listed = kInputs;
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(files, listed);
+}
+
+// ---- the certificate itself ----
+
+FitInput walk_input(std::size_t n, std::uint64_t seed, double turn_deg) {
+  FitInput in;
+  in.points = testing::random_walk(n, seed, turn_deg);
+  return in;
+}
+
+TEST(StressKkt, AcceptsConvergedFitsOfEveryBasis) {
+  for (const char* basis : {"quasi-elastic", "cond-g2", "jaklic-zagar", "yong-cheng",
+                            "restricted-elastic", "elastic"}) {
+    SCOPED_TRACE(basis);
+    for (std::uint64_t seed : {1, 2, 3}) {
+      const FitInput in = walk_input(30, seed, 50);
+      nlohmann::json options = {{"basis", basis}};
+      if (std::string(basis) == "cond-g2") options["lambda"] = 1.7;
+      const FitResult r = fit("min-energy", in, options, ReportLevel::kNone);
+      const stress::KktResult k = stress::check_optimum(in, r);
+      EXPECT_TRUE(k.checked);
+      EXPECT_TRUE(k.pass) << k.what;
+      EXPECT_LT(k.residual, 1e-8);
+    }
+  }
+  const FitInput closed = [] {
+    FitInput in;
+    in.points = testing::ellipse(9);
+    in.closed = true;
+    in.kinds.assign(9, PointKind::kSmooth);
+    in.kinds[3] = PointKind::kCorner;
+    return in;
+  }();
+  const FitResult r = fit("quasi-elastic", closed, {}, ReportLevel::kNone);
+  EXPECT_TRUE(stress::check_optimum(closed, r).pass);
+}
+
+TEST(StressKkt, RejectsATurnedDirection) {
+  const FitInput in = walk_input(20, 7, 60);
+  FitResult r = fit("cond-g2", in, {{"lambda", 0.8}}, ReportLevel::kNone);
+  ASSERT_TRUE(stress::check_optimum(in, r).pass);
+  // Turn node 5's direction by 1e-4 on both sides (its cubics keep their arm lengths).
+  CubicBezier& out = r.spline.segments[5].bezier;
+  CubicBezier& in_side = r.spline.segments[4].bezier;
+  out.p[1] = out.p[0] + rotate(out.p[1] - out.p[0], 1e-4);
+  in_side.p[2] = in_side.p[3] + rotate(in_side.p[2] - in_side.p[3], 1e-4);
+  const stress::KktResult k = stress::check_optimum(in, r);
+  EXPECT_FALSE(k.pass);
+  EXPECT_EQ(k.node, 5u);
+}
+
+TEST(StressKkt, G2CertificateOfKozakKrajnc) {
+  const std::string example = find_method("kozak-krajnc").capabilities.examples.back();
+  const io::ParsedInput p = io::parse_json_input(example);
+  ASSERT_TRUE(p.options.value("g2", false));
+  FitResult r = fit("kozak-krajnc", p.input, p.options, ReportLevel::kNone);
+  const stress::KktResult k = stress::check_optimum(p.input, r);
+  EXPECT_TRUE(k.checked);
+  EXPECT_TRUE(k.pass) << k.what;
+  // A curvature jump at breakpoint 3: move the inner control point of the piece before it.
+  CubicBezier& left = r.spline.segments[2].bezier;
+  left.p[1] = left.p[1] + 1e-3 * perp(left.p[3] - left.p[0]);
+  EXPECT_FALSE(stress::check_optimum(p.input, r).pass);
+}
+
+}  // namespace
+}  // namespace fairspline
