@@ -10,6 +10,7 @@
 #include <string>
 
 #include "detail/intersections.hpp"
+#include "detail/normalize.hpp"
 #include "detail/quadrature.hpp"
 #include "detail/scale.hpp"
 #include "fairspline/error.hpp"
@@ -499,11 +500,11 @@ double coordinate_scale(const Spline& s) {
   return big;
 }
 
-/// Coordinates between 2^-kScaleExponent and 2^kScaleExponent are reported directly (the
-/// curvature-variation integrand holds tenth powers of coordinates). Scaling by a power of two
-/// commutes with every rounding, so the scaled path gives the same bits wherever nothing
-/// under- or overflows; the threshold only saves the copy.
-constexpr int kScaleExponent = 24;
+/// Coordinates within 2^±kNormalRange (fit()'s rule, detail/normalize.hpp) are reported
+/// directly (the curvature-variation integrand holds tenth powers of coordinates). Scaling by a
+/// power of two commutes with every rounding, so the scaled path gives the same bits wherever
+/// nothing under- or overflows; the threshold only saves the copy.
+constexpr int kScaleExponent = detail::kNormalRange;
 
 }  // namespace
 

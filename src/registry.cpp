@@ -8,6 +8,7 @@
 #include "detail/finite.hpp"
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
+#include "detail/normalize.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
@@ -365,13 +366,20 @@ void fit_into(std::string_view method_name, const FitInput& input, const nlohman
   FitInput kinds_only, completed;
   const FitInput& in =
       with_tangents_from(method, with_kinds_only(method, input, kinds_only), resolved, completed);
+  // Data far from unit size: the method sees them scaled by a power of two (exact) and the
+  // result is mapped back, so that no method needs range guards for the points' scale.
+  const std::optional<detail::Normalization> nz = detail::normalization_for(in);
+  FitInput normalized;
+  if (nz) detail::normalize_input(in, *nz, method.capabilities, normalized);
   out.report.reset();
   out.solver.reset();
   out.method_report = nlohmann::json::object();
-  method.fit(in, resolved, fit_options, out);
+  method.fit(nz ? normalized : in, resolved, fit_options, out);
+  if (nz) detail::denormalize_result(in, *nz, method.report_units, out);
   out.method = method.name;
   out.options = std::move(resolved);
-  if (!method.checks_own_output) detail::check_finite_output(out, method.name);
+  // (Mapped back, numbers near the double range's ends may overflow after all.)
+  if (!method.checks_own_output || nz) detail::check_finite_output(out, method.name);
   if (fit_options.level != ReportLevel::kNone) {
     DiagnosticsOptions d;
     d.energy.accuracy = fit_options.report_accuracy();

@@ -111,6 +111,17 @@ using MethodFunction = std::function<void(const FitInput&, const nlohmann::json&
 /// that supplies the directions missing from the input (empty: every point needs a tangent).
 inline constexpr std::string_view kTangentsFromOption = "tangents_from";
 
+/// A number of method_report that depends on the data's scale: with the points multiplied by s
+/// and the knots by k (k = s^alpha for alpha-knots, 1 for explicit knots) it becomes
+/// s^length · k^knots times itself. fit() rescales data far from unit size before the method
+/// runs and maps these numbers back; numbers not listed must not depend on the scale (angles,
+/// counts, relative residuals), which the registry's scale test checks for every method.
+struct ReportUnit {
+  std::string path{};  ///< keys separated by '/'; "*" stands for every element of an array
+  int length = 0;
+  int knots = 0;
+};
+
 /// A registered method.
 struct MethodInfo {
   std::string name{};
@@ -123,6 +134,8 @@ struct MethodInfo {
   /// finite (throwing Error(kNonFinite) otherwise); fit() then skips its own O(n) pass over
   /// the output. Methods that do not set it are checked by fit().
   bool checks_own_output = false;
+  /// The scale-dependent numbers of its method_report.
+  std::vector<ReportUnit> report_units{};
 };
 
 /// All registered methods, in registration order.

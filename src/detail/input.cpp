@@ -173,6 +173,13 @@ void check_capabilities(const FitInput& input, const Capabilities& caps, std::st
 
 }  // namespace
 
+void check_points(const FitInput& input) {
+  const std::span<const Point> pts = input.points;
+  std::size_t n = pts.size();
+  if (input.closed && n >= 2 && coincident(pts[0], pts[n - 1])) --n;
+  check_points_slowly(pts, n, input.closed && n >= 2);
+}
+
 std::size_t prepare_input(const FitInput& input, const Capabilities& caps, std::string_view method,
                           FitResult& out, bool count_rule_relaxed) {
   const std::string name(method);

@@ -22,6 +22,10 @@ namespace fairspline::detail {
 std::size_t prepare_input(const FitInput& input, const Capabilities& caps, std::string_view method,
                           FitResult& out, bool count_rule_relaxed = false);
 
+/// The point checks of prepare_input alone (NaN/Inf, consecutive repeated points, a closed
+/// curve's last point on its first), with the same messages and indices.
+void check_points(const FitInput& input);
+
 /// True when a and b are equal to within rounding of their coordinates' magnitude.
 bool coincident(Point a, Point b);
 

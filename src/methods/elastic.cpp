@@ -92,6 +92,7 @@ MethodInfo make(bool restricted) {
             fit_elastic(in, opt, f.level, out);
           },
       .capabilities = elastic_capabilities(),
+      .report_units = detail::min_energy_report_units(),
   };
 }
 

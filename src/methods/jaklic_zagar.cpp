@@ -932,6 +932,8 @@ std::vector<MethodInfo> jaklic_zagar_methods() {
           },
       .capabilities = jaklic_zagar_capabilities(),
       .checks_own_output = true,
+      // (7): 2|Δ|²(sin²β0 + sin²β1)/Δt³.
+      .report_units = {{"approx_energy/*", 2, -3}, {"approx_energy_total", 2, -3}},
   }};
 }
 

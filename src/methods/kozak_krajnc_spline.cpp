@@ -1289,6 +1289,12 @@ std::vector<MethodInfo> kozak_krajnc_methods() {
             fit_kozak_krajnc(in, opt, f.level, out);
           },
       .capabilities = kozak_krajnc_capabilities(),
+      .report_units = {{"segments/*/alpha0", 1, 0},
+                       {"segments/*/alpha3", 1, 0},
+                       {"segments/*/energy", 2, 0},
+                       {"segments/*/solutions/*/alpha0", 1, 0},
+                       {"segments/*/solutions/*/alpha3", 1, 0},
+                       {"segments/*/solutions/*/energy", 2, 0}},
   }};
 }
 

@@ -340,6 +340,16 @@ FitResult fit_li(const FitInput& input, const LiOptions& options, ReportLevel le
 
 namespace fairspline::detail {
 
+namespace {
+/// Energies in the knot parameter: |s''|² dt has units length²/knot³, |s'''|² dt length²/knot⁵.
+std::vector<ReportUnit> li_report_units() {
+  return {{"knot_scale", 0, 1},
+          {"strain_term", 2, -3},
+          {"third_derivative_term", 2, -5},
+          {"objective", 2, -3}};
+}
+}  // namespace
+
 std::vector<MethodInfo> li_methods() {
   const std::string paper =
       "J. Li, Constructing planar C1 cubic Hermite interpolation curves via approximate energy "
@@ -355,7 +365,8 @@ std::vector<MethodInfo> li_methods() {
             fit_li(in, {1.0, 0.0}, f.level, out);
           },
       .capabilities = li_capabilities(),
-      .checks_own_output = true};
+      .checks_own_output = true,
+      .report_units = li_report_units()};
   MethodInfo combined{
       .name = "li-combined",
       .description =
@@ -379,7 +390,8 @@ std::vector<MethodInfo> li_methods() {
             fit_li(in, {w[0].get<double>(), w[1].get<double>()}, f.level, out);
           },
       .capabilities = li_capabilities(),
-      .checks_own_output = true};
+      .checks_own_output = true,
+      .report_units = li_report_units()};
   MethodInfo curvature{
       .name = "li-curvature-variation",
       .description =
@@ -392,7 +404,8 @@ std::vector<MethodInfo> li_methods() {
             fit_li(in, {0.0, 1.0}, f.level, out);
           },
       .capabilities = li_capabilities(),
-      .checks_own_output = true};
+      .checks_own_output = true,
+      .report_units = li_report_units()};
   curvature.capabilities.needs_clamped_tangent = true;
   curvature.capabilities.examples = {
       R"({"points": [[0,0],[1,1],[2,0],[3,1]], "start_tangent": [1,0]})",

@@ -403,6 +403,14 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
   });
 }
 
+/// The diagonal entry of a held (active or fixed) row of a Newton system: a power of two of the
+/// gradient's scale, so that the held rows neither dominate nor vanish beside the Hessian's
+/// (with 1.0 the solve's pivot floor, relative to the largest entry, depended on the data's
+/// scale), and dividing by it is exact.
+double pivot_unit(double gscale) {
+  return std::isnormal(gscale) ? std::scalbn(1.0, std::ilogb(gscale)) : 1.0;
+}
+
 /// Solves the symmetric (cyclic when `corner`) tridiagonal system by LDLᵀ; false when a pivot is
 /// not positive (matrix not positive definite). d, e as in Evaluation; b is overwritten.
 bool ldl_solve(std::span<const double> d, std::span<const double> e, bool corner,
@@ -626,19 +634,20 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     // the shift: there the projection led one reference case to a worse local minimum).
     const bool psd_first = is_elastic(m.basis);
     double tau = 0.0, dmax = 0.0;
+    const double unit_pivot = pivot_unit(gscale);
     for (int attempt = 0; attempt < 60; ++attempt) {
       const bool projected = psd_first && attempt > 0;
       char act = is_active(0);
       const char act0 = act;
       for (std::size_t i = 0; i < k; ++i) {
         const char next = i + 1 < k ? is_active(i + 1) : act0;
-        dd[i] = act ? 1.0 : (projected ? ev.pd[i] : ev.d[i]) + tau;
+        dd[i] = act ? unit_pivot : (projected ? ev.pd[i] : ev.d[i]) + tau;
         ee[i] = (act || next) ? 0.0 : projected ? ev.pe[i] : ev.e[i];
         // An active node moves onto its bound: it may sit inside the band, up to eps away, and
         // held there it kept the projected gradient at that distance (issue 18's stalled walk).
         dir[i] = !act          ? -ev.g[i]
                  : ch.fixed[i] ? 0.0
-                               : (ev.g[i] > 0.0 ? ch.lo[i] : ch.hi[i]) - ch.x[i];
+                               : unit_pivot * ((ev.g[i] > 0.0 ? ch.lo[i] : ch.hi[i]) - ch.x[i]);
         act = next;
       }
       if (!cyclic) ee[k - 1] = 0.0;
@@ -1016,7 +1025,8 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     }
     if (res.iterations == opt.max_iterations) break;
     // Reduced Newton step, shifted until positive definite.
-    dd.assign(G, 1.0);
+    const double unit_pivot = pivot_unit(gscale);
+    dd.assign(G, unit_pivot);
     ee.assign(G, 0.0);
     rhs.assign(G, 0.0);
     double tau = 0.0, dmax = 0.0;
@@ -1024,7 +1034,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     for (int attempt = 0; attempt < 60; ++attempt) {
       for (std::size_t a = 0; a < G; ++a) {
         const bool fixed_a = bound_nodes[a] > 0, fixed_b = bound_nodes[(a + 1) % G] > 0;
-        dd[a] = fixed_a ? 1.0 : gd[a] + tau;
+        dd[a] = fixed_a ? unit_pivot : gd[a] + tau;
         ee[a] = fixed_a || fixed_b ? 0.0 : ge[a];
         rhs[a] = fixed_a ? 0.0 : -gg[a];
       }
@@ -1484,21 +1494,13 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     tolerance = options.accuracy * std::hypot(hi.x - lo.x, hi.y - lo.y);
   }
   for (Chain& ch : chains) {
-    // The weights are 1/length: divide them by a power of two near the largest (exact) so that
-    // the Newton system, its shifts and the step bounds see O(1) numbers for data at any scale
-    // (found by the extremes suite: closed curves at 1e50 or 1e-150 did not converge), and
-    // restore them for the report.
-    double wmax = 0.0;
-    for (double w : ch.w) wmax = std::max(wmax, w);
-    // (No rescaling when the weights are not normal numbers: a chord of Inf length has weight 0,
-    // and ilogb(0) is INT_MIN; found by fuzz_fit under UBSan. The fit then fails cleanly.)
-    const int wexp = std::isnormal(wmax) ? std::ilogb(wmax) : 0;
-    for (double& w : ch.w) w = std::scalbn(w, -wexp);
-    const double gscale = std::scalbn(wmax, -wexp);
+    // The weights are 1/length; the optimizer measures gradients relative to the largest (fit()
+    // has brought the data near unit size, so no weight over- or underflows).
+    double gscale = 0.0;
+    for (double w : ch.w) gscale = std::max(gscale, w);
     const ChainResult r = m.basis == MinEnergyBasis::kElastic
                               ? optimize_elastic(ch, options, gscale)
                               : optimize_searched(ch, options, gscale);
-    for (double& w : ch.w) w = std::scalbn(w, wexp);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
     converged = converged && (r.converged || r.at_precision);
@@ -1651,6 +1653,10 @@ MinEnergySearch parse_min_energy_search(const nlohmann::json& options) {
   return kSearch.parse(options.at("search").get<std::string>());
 }
 
+std::vector<ReportUnit> min_energy_report_units() {
+  return {{"energy", -1, 0}, {"spans/*/energy", -1, 0}, {"spans/*/length", 1, 0}};
+}
+
 std::string min_energy_search_name(MinEnergySearch search) {
   return std::string(kSearch.name(search));
 }
@@ -1715,6 +1721,7 @@ std::vector<MethodInfo> min_energy_methods() {
               fit_min_energy(in, opt, f.level, out);
             },
         .capabilities = min_energy_capabilities(),
+        .report_units = min_energy_report_units(),
     };
   };
   return {make("quasi-elastic",

@@ -15,4 +15,7 @@ OptionSpec min_energy_search_option();
 MinEnergySearch parse_min_energy_search(const nlohmann::json& options);
 std::string min_energy_search_name(MinEnergySearch search);
 
+/// The scale-dependent numbers of the framework's method_report (E_L = E_1/L).
+std::vector<ReportUnit> min_energy_report_units();
+
 }  // namespace fairspline::detail

@@ -1013,6 +1013,8 @@ std::vector<MethodInfo> yong_cheng_methods() {
             fit_yong_cheng(in, opt, f.level, out);
           },
       .capabilities = yong_cheng_capabilities(),
+      // Derivative lengths dP/dt per unit of the given vector's length.
+      .report_units = {{"spans/*/coefficients/*/*", 1, -1}},
   }};
 }
 
