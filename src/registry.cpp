@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "detail/choices.hpp"
@@ -355,6 +356,46 @@ const FitInput& with_kinds_only(const MethodInfo& method, const FitInput& input,
 
 }  // namespace
 
+namespace {
+
+/// Keeps what was asked in `out.input` (all but the points, which the result holds unless the
+/// method changed them: remember_points after the fit).
+void remember_request(const FitInput& in, const FitOptions& fit_options, FitResult& out) {
+  out.accuracy = fit_options.accuracy;
+  if (&in == &out.input) return;  // refitting a result's own input into it
+  FitInput& r = out.input;
+  r.points.clear();
+  r.closed = in.closed;
+  r.alpha = in.alpha;
+  r.knots.assign(in.knots.begin(), in.knots.end());
+  r.tangents.assign(in.tangents.begin(), in.tangents.end());
+  r.kinds.assign(in.kinds.begin(), in.kinds.end());
+  r.states.assign(in.states.begin(), in.states.end());
+  r.in_tangents.assign(in.in_tangents.begin(), in.in_tangents.end());
+  r.out_tangents.assign(in.out_tangents.begin(), in.out_tangents.end());
+  r.corners_deg.assign(in.corners_deg.begin(), in.corners_deg.end());
+  r.start_tangent = in.start_tangent;
+  r.end_tangent = in.end_tangent;
+}
+
+void remember_points(const FitInput& in, FitResult& out) {
+  if (&in == &out.input) return;
+  const bool same = std::equal(in.points.begin(), in.points.end(), out.points.begin(),
+                               out.points.end(), [](Point a, Point b) {
+                                 // bitwise, so that -0.0 and NaN payloads survive a refit
+                                 return std::memcmp(&a, &b, sizeof(Point)) == 0;
+                               });
+  if (!same) out.input.points.assign(in.points.begin(), in.points.end());
+}
+
+}  // namespace
+
+FitInput refit_input(const FitResult& result) {
+  FitInput in = result.input;
+  if (in.points.empty()) in.points = result.points;
+  return in;
+}
+
 void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               const FitOptions& fit_options, FitResult& out) {
   const MethodInfo& method = find_method(method_name);
@@ -378,6 +419,8 @@ void fit_into(std::string_view method_name, const FitInput& input, const nlohman
   if (nz) detail::denormalize_result(in, *nz, method.report_units, out);
   out.method = method.name;
   out.options = std::move(resolved);
+  remember_request(input, fit_options, out);
+  remember_points(input, out);
   // (Mapped back, numbers near the double range's ends may overflow after all.)
   if (!method.checks_own_output || nz) detail::check_finite_output(out, method.name);
   if (fit_options.level != ReportLevel::kNone) {

@@ -74,7 +74,11 @@ TEST(NodeModel, StatesThatKindsExpressGiveTheSameCurve) {
       a.kinds[4] = PointKind::kSmooth;
       b.states[4] = {R, R};
     }
-    EXPECT_EQ(io::to_json(fit_min(a, method)), io::to_json(fit_min(b, method)));
+    // The same curve and report; only the requests (kinds vs states) differ.
+    nlohmann::json ja = io::to_json(fit_min(a, method)), jb = io::to_json(fit_min(b, method));
+    ja.erase("request");
+    jb.erase("request");
+    EXPECT_EQ(ja, jb);
   }
 }
 

@@ -144,7 +144,18 @@ struct FitResult {
   /// The iterative step's outcome; nullopt for methods that are closed-form.
   std::optional<SolverReport> solver;
   nlohmann::json method_report = nlohmann::json::object();
+  /// The request as fit() received it (node model, kinds, tangents, alpha, knots), so that
+  /// the same curve can be fitted again (refit_input): its `points` are empty when they equal
+  /// `points` above (they differ when a closed curve's repeated last point was dropped or a
+  /// method inserted points).
+  FitInput input;
+  /// The approximation accuracy that was asked for (FitOptions::accuracy).
+  std::optional<double> accuracy;
 };
+
+/// The input that fits `result` again: result.input with its points filled in. With
+/// result.method, result.options and result.accuracy, fit() gives the same curve bit for bit.
+FitInput refit_input(const FitResult& result);
 
 /// How a fit runs and what it reports, the same for every method.
 struct FitOptions {

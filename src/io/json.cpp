@@ -257,6 +257,15 @@ ParsedInput input_from_json(const json& document) {
   if (!document.is_object()) {
     parse_fail("expected a JSON object with a \"points\" field, got " + preview(document));
   }
+  if (document.contains("request") && document.contains("segments")) {
+    // A fit result (write_json): its request fits the same curve again.
+    const FitResult r = fit_result_from_json(document);
+    out.input = refit_input(r);
+    out.method = r.method;
+    out.options = r.options;
+    out.accuracy = r.accuracy;
+    return out;
+  }
   for (const auto& [key, value] : document.items()) {
     if (is_comment_key(key)) continue;
     bool known = false;
@@ -421,6 +430,48 @@ ParsedInput input_from_json(const json& document) {
     (std::string_view(field) == "start_tangent" ? in.start_tangent : in.end_tangent) = v;
   }
   return out;
+}
+
+json input_to_json(const FitInput& in, std::optional<double> accuracy) {
+  const auto pair = [](Vec2 v) { return json::array({v.x, v.y}); };
+  const auto optional_pairs = [&](const std::vector<std::optional<Vec2>>& vs) {
+    json a = json::array();
+    for (const auto& v : vs) a.push_back(v ? pair(*v) : json(nullptr));
+    return a;
+  };
+  json j = json::object();
+  if (accuracy) j["accuracy"] = *accuracy;
+  if (in.alpha != FitInput::kDefaultAlpha) j["alpha"] = in.alpha;
+  if (in.closed) j["closed"] = true;
+  if (!in.corners_deg.empty()) j["corners_deg"] = in.corners_deg;
+  if (in.end_tangent) j["end_tangent"] = pair(*in.end_tangent);
+  if (!in.in_tangents.empty()) j["in_tangents"] = optional_pairs(in.in_tangents);
+  if (!in.kinds.empty()) {
+    json k = json::array();
+    for (PointKind kind : in.kinds) k.push_back(std::string(point_kind_name(kind)));
+    j["kinds"] = std::move(k);
+  }
+  if (!in.knots.empty()) j["knots"] = in.knots;
+  if (!in.out_tangents.empty()) j["out_tangents"] = optional_pairs(in.out_tangents);
+  if (!in.points.empty()) {
+    json p = json::array();
+    for (const Point& q : in.points) p.push_back(pair(q));
+    j["points"] = std::move(p);
+  }
+  if (in.start_tangent) j["start_tangent"] = pair(*in.start_tangent);
+  if (!in.states.empty()) {
+    json st = json::array();
+    for (const NodeState& s : in.states) {
+      if (s.in == s.out) {
+        st.push_back(std::string(side_state_name(s.in)));
+      } else {
+        st.push_back({std::string(side_state_name(s.in)), std::string(side_state_name(s.out))});
+      }
+    }
+    j["states"] = std::move(st);
+  }
+  if (!in.tangents.empty()) j["tangents"] = optional_pairs(in.tangents);
+  return j;
 }
 
 // ---------------------------------------------------------------- reading a result back
@@ -627,6 +678,23 @@ FitResult fit_result_from_json(const json& document) {
                r.points.push_back(read_pair(v, path, index));
              });
   if (const json* report = o.find("report")) r.report = read_report(*report);
+  if (const json* request = o.find("request")) {
+    if (!request->is_object()) bad_field("request", "an object", *request, std::nullopt);
+    json req = *request;
+    if (!req.contains("points")) req["points"] = json::array();  // the result's own points
+    ParsedInput p;
+    try {
+      p = input_from_json(req);
+    } catch (const Error& e) {
+      throw Error(e.code(), std::string("request.") + e.what(), e.index());
+    }
+    if (p.method || !p.options.empty() || p.best_effort) {
+      bad_field("request", "the fit input alone (method and options are the result's)", *request,
+                std::nullopt);
+    }
+    r.input = std::move(p.input);
+    r.accuracy = p.accuracy;
+  }
   read_array(o.at("segments"), "segments", std::nullopt,
              [&](const json& v, const std::string& path, std::optional<std::size_t> index) {
                ObjectReader e(v, path, index);

@@ -437,6 +437,8 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
     m.key("report");
     emit_report(s, *r.report);
   }
+  m.key("request");
+  emit_value(s, input_to_json(r.input, r.accuracy));
   m.key("segments");
   s.begin_array();
   for (const Segment& g : r.spline.segments) {

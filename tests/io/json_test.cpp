@@ -500,7 +500,8 @@ TEST(JsonWriter, StringsAndOddValuesAsDump) {
   json expected = {{"closed", false},           {"knots", json::array()},
                    {"method", r.method},        {"method_report", json::object()},
                    {"options", r.options},      {"points", json::array()},
-                   {"segments", json::array()}, {"tangents", json::array()}};
+                   {"request", json::object()}, {"segments", json::array()},
+                   {"tangents", json::array()}};
   EXPECT_EQ(text, expected.dump(-1, ' ', false, json::error_handler_t::replace));
   EXPECT_EQ(write_json(r, 3), expected.dump(3, ' ', false, json::error_handler_t::replace));
 }

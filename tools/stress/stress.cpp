@@ -405,28 +405,9 @@ json draw_options(const Variant& v, std::uint64_t seed, std::uint64_t k) {
 }
 
 json request_json(const FitInput& in, const std::string& method, const json& options) {
-  json j;
+  json j = io::input_to_json(in);
   j["method"] = method;
   j["options"] = options;
-  json pts = json::array();
-  for (const Point& q : in.points) pts.push_back({q.x, q.y});
-  j["points"] = pts;
-  j["closed"] = in.closed;
-  if (!in.kinds.empty()) {
-    json kinds = json::array(), tangents = json::array();
-    for (std::size_t i = 0; i < in.kinds.size(); ++i) {
-      kinds.push_back(std::string(io::point_kind_name(in.kinds[i])));
-      if (i < in.tangents.size() && in.tangents[i]) {
-        tangents.push_back({in.tangents[i]->x, in.tangents[i]->y});
-      } else {
-        tangents.push_back(nullptr);
-      }
-    }
-    j["kinds"] = kinds;
-    j["tangents"] = tangents;
-  }
-  if (in.start_tangent) j["start_tangent"] = {in.start_tangent->x, in.start_tangent->y};
-  if (in.end_tangent) j["end_tangent"] = {in.end_tangent->x, in.end_tangent->y};
   return j;
 }
 

@@ -31,7 +31,9 @@ struct ParsedInput {
 ///    "kinds": ["smooth"|"clamped"|"corner",...], "method": str, "options": {...},
 ///    "alpha": num, "knots": [...], "start_tangent": [x,y], "end_tangent": [x,y],
 ///    "lambdas": [...], "accuracy": num, "best_effort": bool}
-/// Only "points" is required; a bare array of points is accepted as {"points": [...]}.
+/// Only "points" is required; a bare array of points is accepted as {"points": [...]}, and a
+/// fit result (write_json) as the request that fits its curve again (refit_input, its method,
+/// options and accuracy).
 /// "lambdas" is a method option given at top level for convenience: it is moved into
 /// `options` (giving it in both places is an error). Keys starting with '_' or '$' are
 /// comments; any other unknown key is an error (typos). Errors:
@@ -42,10 +44,16 @@ ParsedInput parse_json_input(std::string_view text);
 /// Same, from an already parsed document (e.g. the body of a web request).
 ParsedInput input_from_json(const nlohmann::json& document);
 
+/// The fit request of `input` (and `accuracy`) as JSON, the inverse of input_from_json: only
+/// the fields that differ from their defaults (a FitInput with no points writes none).
+nlohmann::json input_to_json(const FitInput& input, std::optional<double> accuracy = {});
+
 /// The result as JSON:
 ///   {"method","closed","options","points","knots","tangents",
 ///    "segments": [{"bezier": [[x,y]x4], "t0", "t1", "span"}...],
 ///    "report": {...} (only when the result has one),
+///    "request": input_to_json(result.input, result.accuracy) (what fits the curve again:
+///               its points only where they differ from "points"),
 ///    "method_report": {..., "solver": {"status", "iterations", "residual", "tolerance",
 ///                                      "active": [...]} (only when the result has one)}}
 /// Report fields not computed are null. Doubles round-trip exactly through dump()/parse().
