@@ -63,6 +63,8 @@ SYMBOLS = [
     ("bezier_curvature", "decl", "cubic_bezier.hpp", r"^\s*double curvature\(double u\) const;"),
     ("to_json", "decl", "io/json.hpp", r"^nlohmann::json to_json\(const FitResult& result\);"),
     ("write_svg", "decl", "io/svg.hpp", r"^std::string write_svg\("),
+    ("parse_curve_ensemble", "decl", "io/curve_ensemble.hpp", r"^FitInput parse_curve_ensemble\("),
+    ("write_curve_ensemble", "decl", "io/curve_ensemble.hpp", r"^std::string write_curve_ensemble\("),
     ("svg_options", "decl", "io/svg.hpp", r"^struct SvgOptions\b"),
     ("set_svg_option", "decl", "io/svg.hpp", r"^void set_svg_option\("),
     ("svg_width", "decl", "io/svg.hpp", r"^\s*double width = "),

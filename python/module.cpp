@@ -24,6 +24,7 @@
 #include "fairspline/batch.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
+#include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
@@ -833,6 +834,23 @@ PYBIND11_MODULE(_core, m) {
                     " segments=" + std::to_string(r.spline.segments.size()) +
                     (r.closed ? " closed" : "") + ">";
            })
+      .def_property_readonly(
+          "request",
+          [](const FitResult& r) {
+            json j = fairspline::io::input_to_json(fairspline::refit_input(r), r.accuracy);
+            j["method"] = r.method;
+            j["options"] = r.options;
+            return to_python(j);
+          },
+          "The keywords that fit this curve again: fairspline.fit(**curve.request) gives the "
+          "same curve bit for bit (points, method, options, and what was given of closed, "
+          "alpha, knots, kinds, states, tangents, in_tangents, out_tangents, corners_deg, "
+          "start_tangent, end_tangent, accuracy).")
+      .def(
+          "to_curve_ensemble",
+          [](const FitResult& r) { return fairspline::io::write_curve_ensemble(r); },
+          keep(std::string(doc::write_curve_ensemble) +
+               "\n\nPython: the text of the file (`fairspline fit -f ce`)."))
       .def_static(
           "from_json", [](std::string_view text) { return fairspline::io::read_fit_result(text); },
           py::arg("text"),
@@ -859,6 +877,17 @@ PYBIND11_MODULE(_core, m) {
         py::arg("threads") = py::none(), py::arg("report") = "full",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
         py::arg("errors") = "raise", py::arg("options") = py::none(), keep(fit_many_doc()));
+
+  m.def(
+      "read_curve_ensemble",
+      [](const std::string& path) {
+        return to_python(fairspline::io::input_to_json(fairspline::io::read_curve_ensemble(path)));
+      },
+      py::arg("path"),
+      keep(std::string(doc::parse_curve_ensemble) +
+           "\n\nPython: reads the file at `path` and returns the fit keywords as a dict "
+           "(points, closed, states, in_tangents, out_tangents, corners_deg): "
+           "fairspline.fit(**fairspline.read_curve_ensemble(path), method=...)."));
 
   m.def(
       "methods", [] { return to_python(fairspline::registry_schema()); },

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.hpp"
+#include "fairspline/io/curve_ensemble.hpp"
 
 #ifdef FAIRSPLINE_CLI
 
@@ -30,6 +31,12 @@ class Cli : public fairspline::testing::CommandTest {
   /// Runs the CLI with `args` (already shell-quoted where needed), optional stdin text.
   CliRun run(const std::string& args, const std::optional<std::string>& stdin_text = std::nullopt) {
     return run_program(FAIRSPLINE_CLI, args, stdin_text);
+  }
+  /// Writes `text` to a file of this test's scratch directory; returns its path.
+  std::string write_file(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p.string();
   }
 };
 
@@ -339,6 +346,34 @@ TEST_F(Cli, BenchPrintsTimingJson) {
   const CliRun fail = run("bench -m li-curvature-variation -n 10");
   EXPECT_EQ(fail.exit_code, 1);
   EXPECT_NE(fail.err.find("[singular_system]"), std::string::npos);
+}
+
+TEST_F(Cli, CurveEnsembleFilesInAndOut) {
+  // The bundled Curve Ensemble file is recognized by its header line, fits, and writes back
+  // with -f ce: the same nodes and states, the fitted directions.
+  const std::string ce = std::string(FAIRSPLINE_SOURCE_DIR) + "/examples/curve-ensemble.txt";
+  const CliRun r = run("fit " + quote(ce) + " -m restricted-elastic -f ce");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fairspline::FitInput back = fairspline::io::parse_curve_ensemble(r.out);
+  const fairspline::FitInput given = fairspline::io::read_curve_ensemble(ce);
+  EXPECT_EQ(back.points, given.points);
+  EXPECT_EQ(back.states, given.states);
+  EXPECT_EQ(back.corners_deg, given.corners_deg);
+  EXPECT_FALSE(back.closed);
+  // --input-format ce reads a file whose header was stripped; the JSON output refits exactly.
+  const std::string body = r.out.substr(r.out.find('\n') + 1);
+  const std::string file = write_file("nodes.dat", body);
+  const CliRun json_out = run("fit " + quote(file) + " --input-format ce -m restricted-elastic");
+  ASSERT_EQ(json_out.exit_code, 0) << json_out.err;
+  const std::string saved = write_file("fit.json", json_out.out);
+  const CliRun refit = run("fit " + quote(saved));
+  ASSERT_EQ(refit.exit_code, 0) << refit.err;
+  EXPECT_EQ(refit.out, json_out.out) << "a result file is a request for the same curve";
+  // Data balls are refused as malformed input (exit 2), naming the line and node.
+  const std::string balls = write_file("balls.txt", "0 0 0 0 7\n5 5 0 0 -2\n9 0 0 0 5\n");
+  const CliRun bad = run("fit " + quote(balls) + " --input-format ce");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("line 2 (node 1)"), std::string::npos) << bad.err;
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/io/csv.hpp"
+#include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
@@ -132,6 +133,7 @@ void write_output(const std::string& path, const std::string& text) {
 
 struct FitArgs {
   std::string input;
+  std::string input_format = "auto";
   std::string method;
   bool closed = false;
   double alpha = fairspline::FitInput::kDefaultAlpha;
@@ -153,7 +155,12 @@ int run_fit(const FitArgs& a) {
   fairspline::io::ParsedInput parsed;
   try {
     const std::string text = read_all(a.input);
-    if (looks_like_json(a.input, text)) {
+    const bool ce = a.input_format == "ce" ||
+                    (a.input_format == "auto" && text.rfind("#Curve Ensemble Text File", 0) == 0);
+    if (ce) {
+      parsed.input = fairspline::io::parse_curve_ensemble(text);
+    } else if (a.input_format == "json" ||
+               (a.input_format == "auto" && looks_like_json(a.input, text))) {
       parsed = fairspline::io::parse_json_input(text);
     } else {
       parsed.input.points = fairspline::io::parse_csv_points(text);
@@ -214,6 +221,8 @@ int run_fit(const FitArgs& a) {
     text = fairspline::io::write_svg(result, svg);
   } else if (format == "csv") {
     text = fairspline::io::write_csv(result);
+  } else if (format == "ce") {
+    text = fairspline::io::write_curve_ensemble(result);
   } else {
     text = fairspline::io::write_json(result, a.indent) + "\n";
   }
@@ -414,8 +423,14 @@ int run(int argc, char** argv) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   fit->add_option("-f,--format", fa.format,
-                  "Output format (default: from the -o extension, else json)")
-      ->check(CLI::IsMember({"json", "csv", "svg"}));
+                  "Output format (default: from the -o extension, else json); ce: Curve "
+                  "Ensemble's text file (x y direction corner state energy per node)")
+      ->check(CLI::IsMember({"json", "csv", "svg", "ce"}));
+  fit->add_option("--input-format", fa.input_format,
+                  "Input format (default auto: a Curve Ensemble file by its header line "
+                  "'#Curve Ensemble Text File', JSON by extension or a leading { or [, else "
+                  "CSV); ce reads Curve Ensemble's node states, directions and corners")
+      ->check(CLI::IsMember({"auto", "csv", "json", "ce"}));
   fit->add_option("-o,--output", fa.output, "Output file (default: standard output)");
   fit->add_option("--report", fa.report, "Report level (default: full)")
       ->check(CLI::IsMember({"none", "basic", "full"}));

@@ -8,6 +8,7 @@
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/io/csv.hpp"
+#include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/methods/elastic.hpp"

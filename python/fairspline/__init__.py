@@ -12,8 +12,9 @@ fairspline.Error, a ValueError with .code (e.g. "repeated_point") and .index (th
 point). The compiled part is fairspline._core; its docstrings come from the C++ headers.
 """
 
-from ._core import DEFAULT_METHOD, Curve, Error, __version__, fit, fit_many, methods
+from ._core import (DEFAULT_METHOD, Curve, Error, __version__, fit, fit_many, methods,
+                    read_curve_ensemble)
 from .plot import plot
 
 __all__ = ["Curve", "DEFAULT_METHOD", "Error", "fit", "fit_many", "methods", "plot",
-           "__version__"]
+           "read_curve_ensemble", "__version__"]

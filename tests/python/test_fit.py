@@ -2,6 +2,7 @@
 
 import json
 import math
+import pathlib
 import pickle
 
 import numpy as np
@@ -338,3 +339,41 @@ def test_node_model_keywords_same_as_json_request(cli, tmp_path):
     with pytest.raises(fairspline.Error) as e:
         fairspline.fit(pts, states=["regular", "sideways"] + ["regular"] * 5)
     assert e.value.code == "invalid_argument" and e.value.index == 1
+
+
+def test_request_refits_the_same_curve_bit_for_bit():
+    curve = fairspline.fit([(0, 0), (2, 1), (4, 0), (6, 2), (8, 0)], method="restricted-elastic",
+                           states=["regular", "regular", ["clamped", "free"], "regular", "regular"],
+                           in_tangents=[None, None, (1, -0.3), None, None],
+                           corners_deg=[0, 20, 0, 0, 0], alpha=0.3, accuracy=1e-8)
+    request = curve.request
+    assert request["method"] == "restricted-elastic"
+    assert request["alpha"] == 0.3 and request["accuracy"] == 1e-8
+    again = fairspline.fit(**request)
+    assert np.array_equal(again.segments, curve.segments)
+    # ... and through JSON, as the CLI's `fit out.json` does.
+    assert fairspline.Curve.from_json(curve.to_json()).request == request
+
+
+def test_curve_ensemble_files(tmp_path):
+    source = pathlib.Path(__file__).resolve().parents[2] / "examples" / "curve-ensemble.txt"
+    inputs = fairspline.read_curve_ensemble(str(source))
+    assert inputs["states"][0] == ["free", "clamped"]
+    assert inputs["states"][3] == "free"
+    assert inputs["corners_deg"][2] == 40.0
+    assert "closed" not in inputs  # first state 3, last 5: open
+    curve = fairspline.fit(**inputs, method="restricted-elastic")
+    text = curve.to_curve_ensemble()
+    assert text.startswith("#Curve Ensemble Text File\n")
+    path = tmp_path / "out.txt"
+    path.write_text(text)
+    back = fairspline.read_curve_ensemble(str(path))
+    assert back["points"] == inputs["points"]
+    assert back["states"] == inputs["states"]
+    refit = fairspline.fit(**back, method="restricted-elastic")
+    assert np.allclose(refit.segments, curve.segments, atol=1e-7)
+    with pytest.raises(fairspline.Error) as err:
+        bad = tmp_path / "balls.txt"
+        bad.write_text("0 0 0 0 7\n5 5 0 0 -2\n9 0 0 0 5\n")
+        fairspline.read_curve_ensemble(str(bad))
+    assert err.value.code == "invalid_argument" and err.value.index == 1
