@@ -665,8 +665,12 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       // The full step is evaluated with derivatives (it is usually accepted: Newton).
       double en = evaluate(ch, m, xn, step == 1.0, trial, cs);
       // Armijo; near the optimum the decrease falls below the rounding of the total, so a full
-      // Newton step that does not raise the energy beyond that rounding is taken too.
-      const bool rounding = step == 1.0 && en <= energy + rounding_scale;
+      // Newton step that does not raise the energy beyond that rounding is taken too, but only
+      // when the decrease it predicts is itself within that rounding: a step predicting more
+      // that went up is a bad step, and taking it cycled between two states (issue 18: near-
+      // repeated points' 1e9 weights set an allowance above real changes elsewhere).
+      const bool rounding =
+          step == 1.0 && en <= energy + rounding_scale && -decrease <= rounding_scale;
       if ((en <= energy + 1e-4 * decrease || rounding) && decrease < 0.0) {
         if (step == 1.0 && psd_first) extrapolate(energy, decrease, en);
         ch.x.swap(xn);

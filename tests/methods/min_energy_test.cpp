@@ -13,14 +13,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <numbers>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "fairspline/error.hpp"
+#include "fairspline/io/json.hpp"
 #include "fairspline/methods/yong_cheng.hpp"
 #include "fairspline/registry.hpp"
 #include "test_util.hpp"
@@ -957,6 +960,102 @@ TEST(MinEnergyFit, Issue18WalkConvergesToAKktPoint) {
     } else {
       EXPECT_NEAR(g, 0.0, 1e-6 * scale) << "node " << i;
     }
+  }
+}
+
+/// A saved stress input (tests/data/stress/), parsed as the CLI would.
+io::ParsedInput stress_input(const std::string& file) {
+  std::ifstream f(std::string(FAIRSPLINE_TEST_DATA_DIR) + "/stress/" + file);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return io::parse_json_input(ss.str());
+}
+
+/// Σ E_1/L from the fit's unit tangents and the exact chords (not from the Béziers' control
+/// points, which lose a direction at near-repeated points), with node i turned by d.
+double energy_with_turn(const FitResult& r, const BasicCurveMethod& m, std::size_t i, double d) {
+  const std::size_t n = r.points.size(), segs = r.closed ? n : n - 1;
+  double e = 0.0;
+  for (std::size_t s = 0; s < segs; ++s) {
+    const std::size_t j = s + 1 == n ? 0 : s + 1;
+    const Vec2 c = r.points[j] - r.points[s];
+    const double alpha = signed_angle(c, r.tangents[s]) + (s == i ? d : 0.0);
+    const double beta = signed_angle(c, r.tangents[j]) + (j == i ? d : 0.0);
+    e += basic_energy(m, alpha, beta).e / norm(c);
+  }
+  return e;
+}
+
+/// The largest KKT violation of a fit's directions (boxes |α|, |β| <= Ω), by central differences
+/// of energy_with_turn, relative to the largest chord weight (the solver's measure).
+double kkt_violation(const FitResult& r, const BasicCurveMethod& m, double h) {
+  const std::size_t n = r.points.size();
+  const std::size_t segs = r.closed ? n : n - 1;
+  double wmax = 0.0;
+  for (std::size_t s = 0; s < segs; ++s) {
+    wmax = std::max(wmax, 1.0 / norm(r.points[s + 1 == n ? 0 : s + 1] - r.points[s]));
+  }
+  double worst = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double g = (energy_with_turn(r, m, i, h) - energy_with_turn(r, m, i, -h)) / (2 * h);
+    // The node's angles with its next (α) and previous (β) chords, where they exist.
+    double hi = -kPi, lo = kPi;
+    if (r.closed || i + 1 < n) {
+      const double a = signed_angle(r.points[i + 1 == n ? 0 : i + 1] - r.points[i], r.tangents[i]);
+      hi = std::max(hi, a), lo = std::min(lo, a);
+    }
+    if (r.closed || i > 0) {
+      const double b = signed_angle(r.points[i] - r.points[i == 0 ? n - 1 : i - 1], r.tangents[i]);
+      hi = std::max(hi, b), lo = std::min(lo, b);
+    }
+    double v = std::abs(g);
+    if (hi > m.omega - 1e-9) v = std::max(0.0, g);  // upper bound: may only pull outwards
+    if (lo < -m.omega + 1e-9) v = std::max(0.0, -g);
+    worst = std::max(worst, v / wmax);
+  }
+  return worst;
+}
+
+/// Issue 18: a closed 830-point walk with two near-repeated pairs (chords 1.1e-9) cycled between
+/// two states 0.0103 apart in energy until the 200-iteration cap (projected gradient 1.48e-10).
+/// The line search took a full Newton step that raised the energy whenever the rise was within
+/// the rounding allowance of the total (1.3e-2 here, set by the 1e9 chord weights), though the
+/// step predicted a decrease of 0.33, far above that rounding: node 1 jumped between its bounds.
+TEST(MinEnergyFit, Issue18NearRepeatedWalkDoesNotCycle) {
+  const io::ParsedInput p = stress_input("quasi-elastic-not_converged-s18-c430846.json");
+  const FitResult r = fit("quasi-elastic", p.input, p.options, ReportLevel::kBasic);
+  ASSERT_TRUE(r.solver.has_value());
+  EXPECT_EQ(r.solver->status, SolverStatus::kConverged);
+  EXPECT_LT(r.solver->iterations, 20);
+  const BasicCurveMethod qe = cond_g2(1.0);
+  const double energy = r.method_report.at("energy").get<double>();
+  EXPECT_NEAR(energy_with_turn(r, qe, 0, 0.0), energy, 1e-13 * energy);
+  // Below both states of the cycle (220411267.4039 and .4142); rounding here is ~1e-6.
+  EXPECT_LT(energy, 220411267.40387 - 0.05);
+  EXPECT_LT(kkt_violation(r, qe, 1e-5), 1e-9);
+}
+
+/// The same cycle in restricted-elastic (each with a near-repeated point): an open 10-point walk
+/// (stopped at projected gradient 9e-10, energy 68485712643.0848 or more) and a closed 9-point
+/// one (5.68e-10, 3596526.1231 or more).
+TEST(MinEnergyFit, Issue18RestrictedElasticNearRepeatedWalksDoNotCycle) {
+  struct Case {
+    const char* file;
+    double stalled_energy;
+  };
+  for (const Case& c : {Case{"restricted-elastic-not_converged-s18-c130322.json", 68485712643.0848},
+                        Case{"restricted-elastic-not_converged-s18-c214718.json", 3596526.1231}}) {
+    SCOPED_TRACE(c.file);
+    const io::ParsedInput p = stress_input(c.file);
+    const FitResult r = fit("restricted-elastic", p.input, p.options, ReportLevel::kBasic);
+    ASSERT_TRUE(r.solver.has_value());
+    EXPECT_EQ(r.solver->status, SolverStatus::kConverged);
+    EXPECT_LT(r.solver->iterations, 30);
+    const BasicCurveMethod re{MinEnergyBasis::kRestrictedElastic, 1.0, kPi / 2};
+    const double energy = r.method_report.at("energy").get<double>();
+    EXPECT_NEAR(energy_with_turn(r, re, 0, 0.0), energy, 1e-11 * energy);
+    EXPECT_LT(energy, c.stalled_energy - 1e-3);
+    EXPECT_LT(kkt_violation(r, re, 1e-5), 1e-9);
   }
 }
 
