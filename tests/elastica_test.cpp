@@ -13,6 +13,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
@@ -64,6 +65,36 @@ TEST(Elastica, StraightPiece) {
   ASSERT_EQ(bz.size(), 1u);
   EXPECT_EQ(bz[0].p[0], (Point{1, 1}));
   EXPECT_EQ(bz[0].p[3], (Point{4, 5}));
+}
+
+/// Issue 18: a restricted-elastic span beside a near-repeated point ended at the angles
+/// (1.4e-17, −1.4e-17) from its chord and elastica_arc threw "no minimizing s-curve found": with
+/// b near −a the arc is centred on the apex u = −π/2 and √2·a wide, below the spacing of doubles
+/// there (every a < 9e-17 with b = −a failed). Within eps of the chord the piece deviates from it
+/// by at most a/4 of its length: the straight segment, to double precision.
+TEST(Elastica, PiecesWithinEpsOfTheChordAreStraight) {
+  const double a = 1.3877787807814457e-17, b = -1.3877787807814454e-17;
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
+           {a, b}, {b, a}, {-a, -b}, {1e-20, -1e-20}, {2e-16, -2e-16}, {2e-16, 1e-16}}) {
+    SCOPED_TRACE(x);
+    const ElasticaArc arc = elastica_arc({1, 1}, {4, 5}, x, y);
+    EXPECT_EQ(arc.kind, ElasticaArc::Kind::kStraight);
+    EXPECT_DOUBLE_EQ(arc.unit_energy, 4 * (x * x + x * y + y * y));
+    EXPECT_DOUBLE_EQ(arc.length(), 5.0);
+    EXPECT_NEAR(arc.point(0.5).x, 2.5, 1e-15);
+    EXPECT_NEAR(arc.point(0.5).y, 3.0, 1e-15);
+    EXPECT_EQ(elastica_to_beziers(arc, 1e-12).size(), 1u);
+  }
+  // Above eps the arc is solved, and bulges by a/4 of the chord (the beam a x(1 − x)).
+  for (double x : {1e-12, 1e-9, 1e-6}) {
+    SCOPED_TRACE(x);
+    const ElasticaArc arc = elastica_arc({1, 1}, {4, 5}, x, -x);
+    EXPECT_EQ(arc.kind, ElasticaArc::Kind::kElastica);
+    const Point m = arc.point(0.5);
+    const double bulge = std::abs(cross(Vec2{3, 4}, m - Point{1, 1})) / 5.0;
+    EXPECT_NEAR(bulge, 5.0 * x / 4.0, 1e-3 * x + 4e-15);
+    EXPECT_DOUBLE_EQ(arc.unit_energy, 4 * x * x - 2.0 / 3.0 * x * x * x * x);  // (2/21)·7
+  }
 }
 
 TEST(Elastica, SymmetriesHoldExactly) {

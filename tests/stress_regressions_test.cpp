@@ -76,7 +76,6 @@ const std::set<std::string> kOpen = {
     "kozak-krajnc-not_converged-s18-m60-c10362.json",
     "kozak-krajnc-not_converged-s18-m60-c3050.json",
     "kozak-krajnc-not_converged-s18-m60-c5065.json",
-    "restricted-elastic-not_converged-s18-c43473.json",
 };
 
 /// Empty when the saved request fits to a certified optimum, else why not.

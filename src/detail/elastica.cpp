@@ -725,7 +725,11 @@ ElasticaArc make_arc(Point p0, Point p1, double alpha, double beta, const Reduct
 ElasticaArc elastica_arc(Point p0, Point p1, double alpha, double beta) {
   check_points(p0, p1);
   const Reduction r = reduce(alpha, beta);
-  if (r.k.a <= 1e-150) {  // deviates from the chord by less than 1e-150 of its length
+  // Within eps of the chord the piece deviates from it by at most a/4 of its length (the
+  // small-deflection beam, |y| <= a x(1 − x)): the straight segment, to double precision. The
+  // arc is also unsolvable there: with b near −a it is centred on the apex u = −π/2 and √2·a
+  // wide, below the spacing of doubles at π/2 (issue 18: a span beside a near-repeated point).
+  if (r.k.a <= kEps) {
     ElasticaArc arc;
     arc.p0 = p0;
     arc.p1 = p1;
