@@ -103,6 +103,25 @@ TEST(ErrorCatalog, Cpp) {
     EXPECT_EQ(err.index(), expected_index(e));
     EXPECT_NE(std::string(err.what()).find(e.at("message").get<std::string>()), std::string::npos)
         << err.what();
+    // Front-end neutral: no command-line flag in a library message (each front end adds its
+    // own hint).
+    EXPECT_EQ(std::string(err.what()).find(" --"), std::string::npos) << err.what();
+  }
+}
+
+TEST(ErrorCatalog, LiSingularSystemSpeaksNoFrontEndsSyntax) {
+  // The one library message that named command-line flags (issue 20, bug 4).
+  FitInput in;
+  in.points = {{0, 0}, {1, 1}, {2, 0}, {3, 1}};
+  const Error open =
+      testing::expect_error(ErrorCode::kSingularSystem, [&] { fit("li-curvature-variation", in); },
+                            {"Give a start tangent (or clamp a point)"});
+  in.closed = true;
+  const Error closed =
+      testing::expect_error(ErrorCode::kSingularSystem, [&] { fit("li-curvature-variation", in); },
+                            {"a clamped point or a start tangent"});
+  for (const Error* e : {&open, &closed}) {
+    EXPECT_EQ(std::string(e->what()).find("--"), std::string::npos) << e->what();
   }
 }
 

@@ -48,9 +48,9 @@ std::string singular_message(bool closed) {
              "the curvature-variation energy alone (Li, system 2.16) has no unique minimizer: "
              "every C1 piecewise-quadratic curve through the points has zero energy, one for "
              "each start tangent. ") +
-         (closed ? "Clamp a tangent (kinds/tangents or --start-tangent), use an odd number of "
+         (closed ? "Clamp a tangent (a clamped point or a start tangent), use an odd number of "
                    "points, or use li-combined."
-                 : "Give --start-tangent (or clamp a point), or use li-combined.");
+                 : "Give a start tangent (or clamp a point), or use li-combined.");
 }
 
 [[noreturn]] void throw_singular_numerics() {
