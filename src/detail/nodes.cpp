@@ -5,6 +5,7 @@
 #include <string>
 
 #include "detail/finite.hpp"
+#include "detail/format.hpp"
 #include "detail/input.hpp"
 #include "fairspline/error.hpp"
 
@@ -91,7 +92,7 @@ std::vector<ResolvedNode> resolve_nodes(const FitInput& input, std::size_t n) {
       }
       if (!(std::abs(c) < 180.0)) {
         throw Error(ErrorCode::kInvalidArgument,
-                    point(i) + " has the corner angle " + std::to_string(c) +
+                    point(i) + " has the corner angle " + format_number(c) +
                         "°; it must lie strictly between -180° and 180°",
                     i);
       }
