@@ -827,6 +827,25 @@ PYBIND11_MODULE(_core, m) {
             return fairspline::io::write_svg(r, fairspline::io::svg_options_from_json(o));
           },
           keep(to_svg_doc()))
+      .def(
+          "__call__",
+          [](const FitResult& r, py::handle t) { return evaluate(r, t, Quantity::kPoint); },
+          py::arg("t"), "curve(t) is curve.evaluate(t).")
+      .def(
+          "__eq__",
+          [](const FitResult& a, py::object other) -> py::object {
+            if (!py::isinstance<FitResult>(other))
+              return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+            const FitResult& b = other.cast<const FitResult&>();
+            return py::bool_(fairspline::io::write_json(a) == fairspline::io::write_json(b));
+          },
+          "Equal by value: the same JSON (every field, floats bit for bit).")
+      .def(
+          "_repr_svg_",
+          [](const FitResult& r) {
+            return fairspline::io::write_svg(r, fairspline::io::SvgOptions{});
+          },
+          "The curve as SVG, so that Jupyter shows it.")
       .def("__repr__",
            [](const FitResult& r) {
              return "<fairspline.Curve method='" + r.method +

@@ -377,3 +377,19 @@ def test_curve_ensemble_files(tmp_path):
         bad.write_text("0 0 0 0 7\n5 5 0 0 -2\n9 0 0 0 5\n")
         fairspline.read_curve_ensemble(str(bad))
     assert err.value.code == "invalid_argument" and err.value.index == 1
+
+
+def test_curve_is_callable_comparable_and_shows_itself_in_jupyter():
+    points = [(0, 0), (1, 2), (3, 3), (5, 2)]
+    curve = fairspline.fit(points)
+    t = np.linspace(*curve.t_range, 7)
+    assert np.array_equal(curve(t), curve.evaluate(t))
+    assert curve == fairspline.fit(points)
+    assert curve == pickle.loads(pickle.dumps(curve))
+    assert curve != fairspline.fit([(0, 0), (1, 2), (3, 3), (5, 2.5)])
+    assert curve != fairspline.fit(points, method="li-strain")
+    assert (curve == "a curve") is False
+    with pytest.raises(TypeError):
+        hash(curve)  # equal by value, and not immutable by contract
+    svg = curve._repr_svg_()
+    assert svg.lstrip().startswith("<?xml") and "<path" in svg
