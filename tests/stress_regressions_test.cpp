@@ -66,8 +66,6 @@ const std::set<std::string> kOpen = {
     "elastic-kkt-s18-c13108.json",
     "elastic-kkt-s18-c26699.json",
     "elastic-kkt-s18-c76397.json",
-    "elastic-not_converged-s18-c10414.json",
-    "elastic-not_converged-s18-c15088.json",
     "jaklic-zagar-kkt-s18-c455135.json",
     "kozak-krajnc-internal-non_finite-s18-c771484.json",
     "kozak-krajnc-internal-non_finite-s18-c945473.json",

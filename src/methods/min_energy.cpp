@@ -1132,33 +1132,53 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
   const std::size_t k = ch.node.size(), segs = ch.segments();
   const PairBounds pb = pair_bounds(ch, kPi * (1.0 - 1e-12));
   Chain start = ch;
-  for (std::size_t t = 0; t < k; ++t) {
-    if (ch.fixed[t]) continue;
-    const double a = ch.a[t], b = ch.b[t];
+  // Held: fixed, or a restricted box found empty below. Each node's box is also bounded by its
+  // pair constraints with held neighbours, so that the start satisfies every pair constraint
+  // (its free pairs by |α|, |β| <= 90°); a node held later sends its neighbours back here.
+  std::vector<char> held(ch.fixed.begin(), ch.fixed.end());
+  std::vector<std::size_t> work;
+  for (std::size_t t = k; t-- > 0;) {
+    if (!ch.fixed[t]) work.push_back(t);
+  }
+  while (!work.empty()) {
+    const std::size_t t = work.back();
+    work.pop_back();
+    if (held[t]) continue;
+    const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
+    const std::size_t next = t + 1 == k ? 0 : t + 1, prev = t == 0 ? k - 1 : t - 1;
+    // What the elastic problem allows this direction given its held neighbours.
+    double flo = ch.lo[t], fhi = ch.hi[t];
+    if (has_next && held[next]) {  // lo <= x_t − x_next <= hi (segment t)
+      flo = std::max(flo, pb.lo[t] + start.x[next]);
+      fhi = std::min(fhi, pb.hi[t] + start.x[next]);
+    }
+    if (has_prev && held[prev]) {  // segment prev: lo <= x_prev − x_t <= hi
+      flo = std::max(flo, start.x[prev] - pb.hi[prev]);
+      fhi = std::min(fhi, start.x[prev] - pb.lo[prev]);
+    }
     // (1e-6 inside the box: its corners (±90°, ∓90°) sit on the pair bound |α − β| = 180°,
     // where the second derivatives do not exist.)
     constexpr double kHalf = kPi / 2.0 - 1e-6;
-    double lo = std::max({ch.lo[t], -kHalf - a, -kHalf - b});
-    double hi = std::min({ch.hi[t], kHalf - a, kHalf - b});
-    // A clamped neighbour: its pair constraint bounds this direction alone.
-    const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
-    const std::size_t next = t + 1 == k ? 0 : t + 1, prev = t == 0 ? k - 1 : t - 1;
-    if (has_next && ch.fixed[next]) {  // lo <= x_t − x_next <= hi (segment t)
-      lo = std::max(lo, pb.lo[t] + ch.x[next]);
-      hi = std::min(hi, pb.hi[t] + ch.x[next]);
+    const double a = ch.a[t], b = ch.b[t];
+    const double blo = std::max(-kHalf - a, -kHalf - b), bhi = std::min(kHalf - a, kHalf - b);
+    const double lo = std::max(flo, blo), hi = std::min(fhi, bhi);
+    if (lo <= hi) {
+      start.lo[t] = lo;
+      start.hi[t] = hi;
+      start.x[t] = std::clamp(0.0, lo, hi);
+      continue;
     }
-    if (has_prev && ch.fixed[prev]) {  // segment prev: lo <= x_prev − x_t <= hi
-      lo = std::max(lo, ch.x[prev] - pb.hi[prev]);
-      hi = std::min(hi, ch.x[prev] - pb.lo[prev]);
-    }
-    // Empty when the stencil is within 1e-6 of 180° (the margin exceeds the box) or a clamped
-    // neighbour conflicts: hold the direction at the middle. (The whole elastic box instead
-    // let this restricted phase break pair constraints, whose infinite energies shrank every
-    // step to nothing: a nearly collinear closed 4-point curve of the stress suite.)
-    if (!(lo <= hi)) lo = hi = 0.5 * (lo + hi);
-    start.lo[t] = lo;
-    start.hi[t] = hi;
-    start.x[t] = std::clamp(0.0, lo, hi);
+    // Empty (a stencil within 1e-6 of 180°, or a held neighbour): hold the direction at the
+    // allowed point nearest the box's middle. (The middle of box and pair bounds together broke
+    // a pair constraint with a clamped neighbour: the coupled phase then started at an infinite
+    // energy, closed 3-point curves with a start tangent in issue 18. The whole elastic box
+    // instead let this phase break pair constraints, whose infinite energies shrank every step
+    // to nothing: a nearly collinear closed 4-point curve.)
+    const double x = flo <= fhi ? std::clamp(0.5 * (blo + bhi), flo, fhi) : 0.5 * (flo + fhi);
+    start.lo[t] = start.hi[t] = start.x[t] = x;
+    held[t] = 1;
+    if (has_next) work.push_back(next);
+    if (has_prev) work.push_back(prev);
   }
   (void)segs;
   MinEnergyOptions restricted = opt;

@@ -1059,6 +1059,65 @@ TEST(MinEnergyFit, Issue18RestrictedElasticNearRepeatedWalksDoNotCycle) {
   }
 }
 
+/// Issue 18: closed 3-point elastic curves with a start tangent stopped at once ("projected
+/// gradient 0 … above the tolerance"): the restricted start held node 2, whose box was empty, at
+/// the middle of its box and its pair bound with the clamped node 0, which broke that pair
+/// constraint (|α − β| > 180°), so the coupled phase started at an infinite energy. Checked
+/// independently: no feasible turn of the two free directions (64 directions) lowers Σ E_1/L.
+TEST(MinEnergyFit, Issue18ElasticClosedThreePointsWithStartTangent) {
+  struct Case {
+    std::vector<Point> points;
+    Vec2 tangent;
+    double energy;
+  };
+  const std::vector<Case> cases = {{{{0.0, 0.0},
+                                     {1.6988986424576447, -38.44691389305743},
+                                     {6.985304600164595, -158.08088709661294}},
+                                    {0.46165857536172683, -0.8870576981205793},
+                                    0.2369544805070628},
+                                   {{{0.02291830683460748, 0.0026027542122316113},
+                                     {-0.018851045014499825, 0.02818105210254719},
+                                     {-0.018110047277175294, -0.019883353548042184}},
+                                    {-0.9966327586205304, -0.08199478303179664},
+                                    514.3227668916841}};
+  const BasicCurveMethod el{MinEnergyBasis::kElastic, 1.0, kPi};
+  for (const Case& c : cases) {
+    FitInput in = input_of(c.points, true);
+    in.start_tangent = c.tangent;
+    const FitResult r = fit("elastic", in, {}, ReportLevel::kBasic);
+    ASSERT_TRUE(r.solver.has_value());
+    EXPECT_TRUE(r.solver->status == SolverStatus::kConverged ||
+                r.solver->status == SolverStatus::kConditioningLimit);
+    EXPECT_NEAR(cross(r.tangents[0], normalized(c.tangent)), 0.0, 1e-15);
+    const double energy = r.method_report.at("energy").get<double>();
+    EXPECT_NEAR(energy, c.energy, 1e-9 * c.energy);
+    EXPECT_NEAR(energy_with_turn(r, el, 0, 0.0), energy, 1e-9 * energy);
+    double wmax = 0.0;
+    for (std::size_t s = 0; s < 3; ++s)
+      wmax = std::max(wmax, 1.0 / norm(c.points[(s + 1) % 3] - c.points[s]));
+    // Σ E_1/L with nodes 1 and 2 turned by (d1, d2); infinite outside the s-curve domain.
+    auto turned = [&](double d1, double d2) {
+      double e = 0.0;
+      for (std::size_t s = 0; s < 3; ++s) {
+        const std::size_t j = (s + 1) % 3;
+        const Vec2 ch = r.points[j] - r.points[s];
+        const double d[] = {0.0, d1, d2};
+        e += basic_energy(el, signed_angle(ch, r.tangents[s]) + d[s],
+                          signed_angle(ch, r.tangents[j]) + d[j])
+                 .e /
+             norm(ch);
+      }
+      return e;
+    };
+    const double h = 1e-7, e0 = turned(0, 0);
+    for (int q = 0; q < 64; ++q) {
+      const double phi = 2 * kPi * q / 64;
+      const double e = turned(h * std::cos(phi), h * std::sin(phi));
+      if (std::isfinite(e)) EXPECT_GE((e - e0) / h, -1e-5 * wmax) << "direction " << q;
+    }
+  }
+}
+
 // ---- errors ----
 
 TEST(MinEnergyFit, InfeasibleMessageGivesTheBasisOmegaLimit) {
