@@ -126,19 +126,59 @@ struct Geometry {
   double D(std::size_t i, std::size_t j) const { return cross(dT[i], dT[j]); }
 };
 
+/// (1 − ξ)u + ξv, to about ε² of |u| + |v| (error-free sums and fma products). Where u, v are
+/// nearly opposite (T3ℓ−1, T3ℓ, T3ℓ+1 straight to rounding, but σ turning the cone (4.1) to
+/// the half-plane beside them) the terms cancel to ~1e-17 of their size inside a ξ-window
+/// narrower than an ulp, and plain double arithmetic returned a zero vector (its direction NaN).
+/// u × v ≠ 0 exactly (geometry() requires the chords' determinant non-zero), so the exact
+/// value is not zero, and its leading digits are what this returns.
+Vec2 cone_point(Vec2 u, Vec2 v, double xi) {
+  auto two_sum = [](double a, double b, double& err) {
+    const double s = a + b, bb = s - a;
+    err = (a - (s - bb)) + (b - bb);
+    return s;
+  };
+  double a_lo = 0.0;
+  const double a = two_sum(1.0, -xi, a_lo);  // 1 − ξ = a + a_lo exactly
+  auto coordinate = [&](double uc, double vc) {
+    const double p = a * uc, q = xi * vc;
+    const double p_lo = std::fma(a, uc, -p), q_lo = std::fma(xi, vc, -q);
+    double s_lo = 0.0;
+    const double s = two_sum(p, q, s_lo);
+    return s + (s_lo + p_lo + q_lo + a_lo * uc);
+  };
+  return {coordinate(u.x, v.x), coordinate(u.y, v.y)};
+}
+
 Mobius mobius(double n0, double n1, double e0, double e1) {
   return {n1 - n0, n0, e1 - e0, e0};
 }
 
 /// Throws when three consecutive points T(k), T(k+1), T(k+2) are collinear (kind 0) or the
-/// chords T(k)T(k+1), T(k+2)T(k+3) are parallel (kind 1); the message is built only then.
-void require_nonzero(double value, std::size_t k, int kind) {
-  if (value != 0.0) return;
-  const std::string what =
-      kind == 0 ? pt(k) + ", " + pt(k + 1) + ", " + pt(k + 2) + " are collinear"
-                : "chords " + pt(k) + pt(k + 1) + " and " + pt(k + 2) + pt(k + 3) + " are parallel";
+/// chords T(k)T(k+1), T(k+2)T(k+3) are parallel (kind 1), i.e. when D = det(a, b) of those
+/// chords is zero; with `rounding`, also when |D| is within its rounding error. The sweeps take
+/// σ and the signs of λ, δ, μ from such determinants: below their rounding these are noise
+/// (stress inputs with points collinear to 1e-17 rad gave a tangent cone (4.1) whose admissible
+/// part was narrower than an ulp of ξ, and NaN directions). The message is built only then.
+void require_independent(Vec2 a, Vec2 b, std::size_t k, int kind, bool rounding) {
+  const double d = cross(a, b);
+  // The chords' own rounding (ε/2 each) and the determinant's (< 1.5ε), with a margin.
+  const double bound = rounding ? 4.0 * std::numeric_limits<double>::epsilon() *
+                                      (std::abs(a.x * b.y) + std::abs(a.y * b.x))
+                                : 0.0;
+  if (std::abs(d) > bound) return;
+  const std::string which =
+      kind == 0 ? pt(k) + ", " + pt(k + 1) + ", " + pt(k + 2) + " are "
+                : "chords " + pt(k) + pt(k + 1) + " and " + pt(k + 2) + pt(k + 3) + " are ";
+  const std::string what = kind == 0 ? "collinear" : "parallel";
+  const std::string how =
+      d == 0.0
+          ? what
+          : what + " to within rounding (they turn by " +
+                detail::format_number(std::asin(std::min(1.0, std::abs(d) / (norm(a) * norm(b))))) +
+                " rad, below what double precision resolves)";
   throw Error(ErrorCode::kInvalidArgument,
-              "kozak-krajnc: " + what + " (Theorem 4.1 needs them not to be)", k + 1);
+              "kozak-krajnc: " + which + how + " (Theorem 4.1 needs them not to be)", k + 1);
 }
 
 /// `all` (optional) continues T with remainder points: then T3m is not the end of the curve and
@@ -160,12 +200,13 @@ Geometry geometry(std::span<const Point> T, std::span<const Point> all = {}, boo
   g.v.resize(m + 1);
   for (std::size_t l = 1; l <= m; ++l) {  // assumptions of Theorem 4.1 on piece ℓ
     const std::size_t k = 3 * l - 3;
-    require_nonzero(g.D(k, k + 1), k, 0);
-    require_nonzero(g.D(k + 1, k + 2), k + 1, 0);
-    if (sweeps) require_nonzero(g.D(k, k + 2), k, 1);
+    require_independent(g.dT[k], g.dT[k + 1], k, 0, sweeps);
+    require_independent(g.dT[k + 1], g.dT[k + 2], k + 1, 0, sweeps);
+    // λ's numerator: exact test still (parallel-to-rounding chords are open, docs/hardening.md).
+    if (sweeps) require_independent(g.dT[k], g.dT[k + 2], k, 1, false);
   }
   for (std::size_t l = 1; sweeps && l < m + (goes_on ? 1 : 0); ++l) {
-    require_nonzero(g.D(3 * l - 1, 3 * l), 3 * l - 1, 0);
+    require_independent(g.dT[3 * l - 1], g.dT[3 * l], 3 * l - 1, 0, true);
   }
   // (4.1)
   g.u[0] = -1.0 * g.dT[1];
@@ -506,7 +547,7 @@ bool solve_piece(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3, const Piece
 }
 
 Vec2 direction(const Geometry& g, std::size_t l, double xi) {
-  return unit((1.0 - xi) * g.u[l] + xi * g.v[l]);
+  return unit(cone_point(g.u[l], g.v[l], xi));
 }
 
 bool admissible(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3) {
@@ -1194,7 +1235,7 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
 
 Vec2 kozak_krajnc_direction(std::span<const Point> points, std::size_t breakpoint, double xi) {
   const Geometry g = geometry(points);
-  return (1.0 - xi) * g.u[breakpoint] + xi * g.v[breakpoint];
+  return cone_point(g.u[breakpoint], g.v[breakpoint], xi);
 }
 
 std::optional<double> kozak_krajnc_xi_of(std::span<const Point> points, std::size_t breakpoint,
@@ -1206,8 +1247,8 @@ bool kozak_krajnc_piece_admissible(std::span<const Point> points, std::size_t pi
                                    double xi_right) {
   const Geometry g = geometry(points);
   const std::size_t k = 3 * piece - 3;
-  const Vec2 d0 = (1.0 - xi_left) * g.u[piece - 1] + xi_left * g.v[piece - 1];
-  const Vec2 d3 = (1.0 - xi_right) * g.u[piece] + xi_right * g.v[piece];
+  const Vec2 d0 = cone_point(g.u[piece - 1], g.v[piece - 1], xi_left);
+  const Vec2 d3 = cone_point(g.u[piece], g.v[piece], xi_right);
   const KozakKrajncConstants c =
       kozak_krajnc_constants(points[k], points[k + 1], points[k + 2], points[k + 3], d0, d3);
   return kozak_krajnc_theorem_2_4(c) || kozak_krajnc_theorem_2_5(c);

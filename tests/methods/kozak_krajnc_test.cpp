@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "fairspline/error.hpp"
+#include "fairspline/methods/kozak_krajnc_spline.hpp"
+#include "fairspline/registry.hpp"
 #include "methods/kozak_krajnc_detail.hpp"
 #include "test_util.hpp"
 
@@ -159,6 +161,42 @@ TEST(KozakKrajncConstants, DegenerateDataThrows) {
   });
   EXPECT_EQ(f.code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(std::string(f.what()).find("d0"), std::string::npos);
+}
+
+// T2, T3, T4 on the line y = x/3 up to the rounding of their coordinates: the sign of
+// det(ΔT2, ΔT3), which sets σ and the tangent cone (4.1) at T3, is noise. The stress inputs
+// kozak-krajnc-internal-non_finite-* (walks with such runs) got a cone whose admissible part
+// was narrower than an ulp of ξ, and a NaN direction; now they are collinear data.
+TEST(KozakKrajncSpline, PointsCollinearToRoundingAreCollinear) {
+  auto input = [](double lift) {
+    FitInput in;
+    in.points = {
+        {-1.0, 1.0}, {-0.5, 0.6}, {0.1, 0.1 / 3.0}, {0.7, 0.7 / 3.0}, {1.3, 1.3 / 3.0 + lift},
+        {1.9, 0.2},  {2.5, 0.9}};
+    return in;
+  };
+  const std::vector<Point> pts = input(0.0).points;
+  const Vec2 a = pts[3] - pts[2], b = pts[4] - pts[3];
+  ASSERT_NE(cross(a, b), 0.0);  // not exactly collinear as doubles
+  ASSERT_LT(std::abs(cross(a, b)) / (norm(a) * norm(b)), 1e-15);
+  const Error e = testing::expect_error([&] { fit("kozak-krajnc", input(0.0), {}); });
+  EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(e.index(), std::optional<std::size_t>(3));
+  EXPECT_NE(std::string(e.what()).find("T2, T3, T4 are collinear to within rounding"),
+            std::string::npos)
+      << e.what();
+  // A turn of 1e-9 rad at T3 is resolved: the sweeps run, and the directions (4.1) there come
+  // out as unit vectors even where (1 − ξ)u + ξv nearly cancels.
+  const FitInput turned = input(1e-9);
+  const KozakKrajncSweep sw = kozak_krajnc_sweep(turned.points);
+  ASSERT_EQ(sw.xi.size(), 3u);
+  const Vec2 u = kozak_krajnc_direction(turned.points, 1, 0.0);
+  const Vec2 v = kozak_krajnc_direction(turned.points, 1, 1.0);
+  // Where |(1 − ξ)u + ξv| is least: the direction there is normal to u − v.
+  const double foot = -dot(u, v - u) / norm2(v - u);
+  const Vec2 d = kozak_krajnc_direction(turned.points, 1, foot);
+  ASSERT_GT(norm(d), 0.0);
+  EXPECT_LT(std::abs(dot(d, v - u)) / (norm(d) * norm(v - u)), 1e-6);
 }
 
 /// Largest distance of the piece from T1, T2 at its parameters, relative to the data size.

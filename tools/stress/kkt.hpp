@@ -268,8 +268,11 @@ inline KktResult check_min_energy(const FitInput& in, const FitResult& r,
     return (kind(i) == PointKind::kClamped && i < in.tangents.size() && in.tangents[i]) ||
            (i == 0 && in.start_tangent) || (!closed && i + 1 == n && in.end_tangent);
   };
+  // A corner splits the curve into independent chains, as in the solver, unless its direction
+  // is given: a closed curve's start tangent clamps both sides of point 0 whatever its kind
+  // (detail::resolve_nodes), so that node joins its neighbours' chain, and L_min with it.
   auto split = [&](std::size_t i) {
-    return kind(i) == PointKind::kCorner && (closed || (i > 0 && i + 1 < n));
+    return kind(i) == PointKind::kCorner && (closed || (i > 0 && i + 1 < n)) && !fixed(i);
   };
   // Each span's end legs. At a G1 node both sides carry one direction: it is read off the
   // longer of the two legs (an elastic piece may start with a Bézier 1e-12 long, whose
