@@ -3,6 +3,7 @@
 // independent fits, and rotating the data after a corner so that the node becomes smooth; by
 // finite-difference KKT checks; and the errors with their points.
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <cmath>
 #include <numbers>
@@ -276,6 +277,98 @@ TEST(NodeModel, Errors) {
                    },
                    {"after the corner angle"});
   EXPECT_EQ(e.index(), std::optional<std::size_t>(2));
+}
+
+}  // namespace
+}  // namespace fairspline
+
+namespace fairspline {
+namespace {
+
+/// Unit direction of the span s's Bézier at its start (end = false) or its end.
+Vec2 piece_direction(const FitResult& r, std::size_t s, bool end) {
+  const CubicBezier& b = r.spline.segments.at(s).bezier;
+  return normalized(end ? b.p[3] - b.p[2] : b.p[1] - b.p[0]);
+}
+
+double turn_deg(Vec2 a, Vec2 b) {
+  return std::atan2(cross(a, b), dot(a, b)) * 180.0 / std::numbers::pi;
+}
+
+RC_GTEST_PROP(NodeModel, EveryStateCombinationKeepsItsDirectionsAndReachesTheReference, ()) {
+  // Random small curves whose nodes take every side state (regular, clamped, free, on each side
+  // independently), corners on regular nodes: the fit keeps every clamped direction and every
+  // corner on its Béziers, and its energy is at most the slow coordinate search's (Curve
+  // Ensemble's optimizer, min_energy_reference) on the same input.
+  const bool closed = *rc::gen::arbitrary<bool>();
+  const auto n = static_cast<std::size_t>(*rc::gen::inRange(closed ? 3 : 4, 8));
+  FitInput in;
+  in.closed = closed;
+  double heading = 0.0;
+  Point p{0.0, 0.0};
+  for (std::size_t i = 0; i < n; ++i) {
+    in.points.push_back(p);
+    heading += *rc::gen::inRange(-50, 51) * std::numbers::pi / 180.0;
+    const double step = 0.5 + *rc::gen::inRange(0, 100) / 50.0;
+    p = p + step * from_angle(heading);
+  }
+  const SideState kStates[] = {SideState::kRegular, SideState::kClamped, SideState::kFree};
+  in.states.resize(n);
+  in.in_tangents.assign(n, std::nullopt);
+  in.out_tangents.assign(n, std::nullopt);
+  in.corners_deg.assign(n, 0.0);
+  auto chord = [&](std::size_t a) {  // unit chord from point a to the next
+    return normalized(in.points[(a + 1) % n] - in.points[a]);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    NodeState& s = in.states[i];
+    s.in = kStates[*rc::gen::inRange(0, 3)];
+    s.out = kStates[*rc::gen::inRange(0, 3)];
+    const bool has_prev = closed || i > 0, has_next = closed || i + 1 < n;
+    if (!has_prev) s.in = s.out == SideState::kClamped ? SideState::kFree : s.out;
+    if (!has_next) s.out = s.in == SideState::kClamped ? SideState::kFree : s.in;
+    // Clamped directions within 30° of the adjacent chord: feasible for Ω = 90°.
+    if (s.in == SideState::kClamped) {
+      in.in_tangents[i] =
+          rotate(chord(i == 0 ? n - 1 : i - 1), *rc::gen::inRange(-30, 31) * 0.0174533);
+    }
+    if (s.out == SideState::kClamped) {
+      in.out_tangents[i] = rotate(chord(i), *rc::gen::inRange(-30, 31) * 0.0174533);
+    }
+    if (s.in == SideState::kRegular && s.out == SideState::kRegular && has_prev && has_next &&
+        *rc::gen::inRange(0, 3) == 0) {
+      in.corners_deg[i] = *rc::gen::inRange(-30, 31);
+    }
+  }
+  FitResult r;
+  try {
+    r = fit("quasi-elastic", in, nlohmann::json::object(), ReportLevel::kNone);
+  } catch (const Error& e) {
+    // Only a clamped direction or a stencil beyond the feasible range may refuse the input.
+    RC_ASSERT(e.code() == ErrorCode::kInfeasible);
+    RC_SUCCEED("infeasible");
+  }
+  const std::size_t spans = closed ? n : n - 1;
+  RC_ASSERT(r.spline.segments.size() == spans);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool has_prev = closed || i > 0, has_next = closed || i + 1 < n;
+    const std::size_t before = i == 0 ? n - 1 : i - 1;
+    if (has_prev && in.in_tangents[i]) {
+      RC_ASSERT(std::abs(turn_deg(*in.in_tangents[i], piece_direction(r, before, true))) < 1e-9);
+    }
+    if (has_next && in.out_tangents[i]) {
+      RC_ASSERT(std::abs(turn_deg(*in.out_tangents[i], piece_direction(r, i, false))) < 1e-9);
+    }
+    if (has_prev && has_next && in.states[i] == NodeState{}) {
+      const double turn = turn_deg(piece_direction(r, before, true), piece_direction(r, i, false));
+      RC_ASSERT(std::abs(turn - in.corners_deg[i]) < 1e-9);
+    }
+  }
+  MinEnergyOptions o;
+  o.method.basis = MinEnergyBasis::kCondG2;
+  const MinEnergyReference ref = min_energy_reference(in, o);
+  const double e = r.method_report.at("energy").get<double>();
+  RC_ASSERT(e <= ref.energy * (1.0 + 1e-9) + 1e-12);
 }
 
 }  // namespace

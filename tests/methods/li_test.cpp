@@ -185,7 +185,7 @@ TEST(Li, CurvatureVariationNeedsAClampedTangent) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kSingularSystem);
-    EXPECT_NE(std::string(e.what()).find("start-tangent"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Give a start tangent"), std::string::npos) << e.what();
   }
   // Closed with an even count is singular too; with an odd count it is unique.
   EXPECT_THROW(fit("li-curvature-variation", input_of(ellipse(8), 0.5, true)), Error);
