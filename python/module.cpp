@@ -7,15 +7,21 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <deque>
+#include <exception>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -482,8 +488,11 @@ py::list py_fit_many(py::iterable curves, const std::string& method, bool closed
                      std::optional<double> alpha, const py::object& start_tangent,
                      const py::object& end_tangent, std::optional<long long> threads,
                      const std::string& report, std::optional<double> accuracy, bool best_effort,
-                     const std::string& errors, const py::object& options,
-                     const py::kwargs& kwargs) {
+                     const std::string& errors, const py::object& progress,
+                     const py::object& options, const py::kwargs& kwargs) {
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
+    invalid("progress must be None or a callable progress(done, total)");
+  }
   if (errors != "raise" && errors != "return") {
     invalid("errors must be \"raise\" or \"return\", got \"" + errors + "\"");
   }
@@ -509,11 +518,71 @@ py::list py_fit_many(py::iterable curves, const std::string& method, bool closed
     job.options = opts;
     jobs.push_back(std::move(job));
   }
+  // The batch runs on a thread of its own while this (the interpreter's) thread waits in
+  // steps of 50 ms: between them it calls `progress` and checks for signals, so Ctrl-C stops
+  // the batch (jobs not yet started are skipped) and callbacks such as tqdm's run on the
+  // thread that owns them.
   std::vector<fairspline::BatchOutcome> outcomes;
+  std::atomic<bool> stop{false};
+  std::atomic<std::size_t> done{0};
+  batch.stop = &stop;
+  batch.progress = [&done](std::size_t n, std::size_t) { done.store(n); };
+  const std::size_t total = jobs.size();
+  bool interrupted = false;
   {
     py::gil_scoped_release release;
-    outcomes = fairspline::fit_many(std::span<const fairspline::BatchJob>(jobs), batch);
+    std::mutex m;
+    std::condition_variable cv;
+    bool finished = false;
+    std::exception_ptr failure;
+    std::thread runner([&] {
+      try {
+        outcomes = fairspline::fit_many(std::span<const fairspline::BatchJob>(jobs), batch);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      const std::lock_guard lock(m);
+      finished = true;
+      cv.notify_all();
+    });
+    std::size_t reported = 0;
+    for (;;) {
+      {
+        std::unique_lock lock(m);
+        if (cv.wait_for(lock, std::chrono::milliseconds(50), [&] { return finished; })) break;
+      }
+      py::gil_scoped_acquire acquire;
+      if (interrupted) continue;
+      if (PyErr_CheckSignals() != 0) {  // the exception (KeyboardInterrupt) stays set
+        interrupted = true;
+        stop = true;
+        continue;
+      }
+      const std::size_t n = done.load();
+      if (!progress.is_none() && n > reported) {
+        reported = n;
+        try {
+          progress(n, total);
+        } catch (py::error_already_set& e) {
+          e.restore();
+          interrupted = true;
+          stop = true;
+        }
+      }
+    }
+    runner.join();
+    if (failure) std::rethrow_exception(failure);
+    if (!interrupted && !progress.is_none() && reported < total) {
+      py::gil_scoped_acquire acquire;
+      try {
+        progress(total, total);
+      } catch (py::error_already_set& e) {
+        e.restore();
+        interrupted = true;
+      }
+    }
   }
+  if (interrupted) throw py::error_already_set();
   py::list out;
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     fairspline::BatchOutcome& o = outcomes[i];
@@ -615,8 +684,13 @@ returns a list of Curve in input order. The GIL is released while the curves are
             list (.index is still the point within the curve) and whose message starts with
             "curve i: ". "return": a failed curve's entry in the list is its fairspline.Error
             instance (not raised), the other entries are Curves.
+  progress  None, or a callable progress(done, total) called on the calling thread as curves
+            finish (about every 50 ms, and once with done == total), e.g. a tqdm bar's
+            update. An exception it raises stops the batch and is raised.
 
-A curve that is not an (n, 2) array raises fairspline.Error (.curve set) before any fitting.)";
+Ctrl-C (KeyboardInterrupt) stops a running batch within about 0.1 s: curves not yet started
+are skipped and KeyboardInterrupt is raised. A curve that is not an (n, 2) array raises
+fairspline.Error (.curve set) before any fitting.)";
 }
 
 std::string error_doc() {
@@ -895,7 +969,8 @@ PYBIND11_MODULE(_core, m) {
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("threads") = py::none(), py::arg("report") = "full",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
-        py::arg("errors") = "raise", py::arg("options") = py::none(), keep(fit_many_doc()));
+        py::arg("errors") = "raise", py::arg("progress") = py::none(),
+        py::arg("options") = py::none(), keep(fit_many_doc()));
 
   m.def(
       "read_curve_ensemble",

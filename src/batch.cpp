@@ -70,6 +70,7 @@ std::vector<BatchOutcome> fit_many(std::span<const BatchJob> jobs, const BatchOp
   parallel_for(jobs.size(), options.threads, [&](std::size_t i) {
     const BatchJob& job = jobs[i];
     BatchOutcome& out = outcomes[i];
+    if (options.stop && options.stop->load(std::memory_order_relaxed)) return;
     try {
       const std::string_view method =
           job.method.empty() ? default_method_name() : std::string_view(job.method);

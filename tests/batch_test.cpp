@@ -22,6 +22,35 @@ TEST(Batch, ResolveThreads) {
   EXPECT_GE(resolve_threads(0, 1000), 1u);
 }
 
+TEST(Batch, StopSkipsTheJobsNotYetStarted) {
+  std::vector<BatchJob> jobs(200);
+  for (BatchJob& j : jobs) j.input.points = {{0, 0}, {1, 2}, {3, 3}, {5, 2}};
+  std::atomic<bool> stop{true};
+  BatchOptions o;
+  o.threads = 1;
+  o.stop = &stop;
+  for (const BatchOutcome& out : fit_many(jobs, o)) {
+    EXPECT_FALSE(out.result || out.error) << "stopped before it began";
+  }
+  // Stopped from the progress callback after the first chunk: those jobs are done, the rest
+  // skipped, and every outcome is one or the other.
+  stop = false;
+  std::size_t stopped_at = 0;
+  o.progress = [&](std::size_t done, std::size_t) {
+    if (stopped_at == 0) stopped_at = done;
+    stop = true;
+  };
+  const std::vector<BatchOutcome> outs = fit_many(jobs, o);
+  std::size_t fitted = 0;
+  for (std::size_t i = 0; i < outs.size(); ++i) {
+    EXPECT_FALSE(outs[i].error) << i;
+    if (outs[i].result) ++fitted;
+  }
+  EXPECT_GT(stopped_at, 0u);
+  EXPECT_EQ(fitted, stopped_at);
+  EXPECT_LT(fitted, jobs.size());
+}
+
 TEST(Batch, ParallelForVisitsEveryIndexOnce) {
   for (unsigned threads : {1u, 2u, 5u}) {
     std::vector<std::atomic<int>> seen(10007);

@@ -3,6 +3,7 @@
 // over a small pool of threads; results come back in input order.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -24,7 +25,8 @@ struct BatchJob {
   nlohmann::json options = nlohmann::json::object();
 };
 
-/// The outcome of one job: exactly one of `result` and `error` is set.
+/// The outcome of one job: exactly one of `result` and `error` is set (neither for a job that
+/// BatchOptions::stop skipped).
 struct BatchOutcome {
   std::optional<FitResult> result;
   std::optional<Error> error;
@@ -39,6 +41,10 @@ struct BatchOptions {
   /// done == total), never concurrently with itself; may be empty. Runs on a worker thread:
   /// keep it short.
   std::function<void(std::size_t done, std::size_t total)> progress;
+  /// When set and true, jobs not yet started are skipped (their outcomes stay empty: neither
+  /// result nor error) and fit_many returns once the running ones finish: how a caller
+  /// interrupts a long batch (Python's Ctrl-C). May be set from any thread.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 /// The number of threads `requested` resolves to (0: hardware concurrency, at least 1), never

@@ -1,5 +1,7 @@
 """fairspline.fit_many, and the GIL released while C++ fits."""
 
+import os
+import signal
 import threading
 import time
 
@@ -121,3 +123,41 @@ def test_fit_many_releases_the_gil():
     ticks, seconds = progress_during(lambda: fairspline.fit_many(curves, threads=1))
     assert seconds > 0.05, "the fits are too quick to tell"
     assert ticks >= 3, "no Python thread ran during {:.3f} s of fitting".format(seconds)
+
+
+def _walks(count, n=5000, seed=1):
+    rng = np.random.default_rng(seed)
+    return [np.cumsum(rng.normal(size=(n, 2)), axis=0) for _ in range(count)]
+
+
+def test_progress_is_called_on_this_thread_up_to_the_total():
+    curves = _walks(60, n=2000)
+    calls = []
+    main = threading.get_ident()
+    out = fairspline.fit_many(curves, report="none", threads=1, errors="return",
+                              progress=lambda done, total: calls.append(
+                                  (done, total, threading.get_ident())))
+    assert len(out) == 60
+    assert calls and calls[-1][:2] == (60, 60)
+    assert all(t == main for _, _, t in calls)
+    dones = [d for d, _, _ in calls]
+    assert dones == sorted(dones) and len(set(dones)) == len(dones)
+
+
+def test_ctrl_c_stops_a_running_batch_quickly():
+    curves = _walks(400)  # ~5 s of fitting on one thread
+    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        fairspline.fit_many(curves, report="none", threads=1, errors="return")
+    assert time.monotonic() - started < 1.5
+
+
+def test_an_exception_in_progress_stops_the_batch():
+    def fail(done, total):
+        raise RuntimeError("enough")
+    with pytest.raises(RuntimeError, match="enough"):
+        fairspline.fit_many(_walks(200), report="none", threads=1, errors="return", progress=fail)
+    with pytest.raises(fairspline.Error):
+        fairspline.fit_many(_walks(2, n=10), progress=3)
