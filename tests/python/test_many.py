@@ -161,3 +161,16 @@ def test_an_exception_in_progress_stops_the_batch():
         fairspline.fit_many(_walks(200), report="none", threads=1, errors="return", progress=fail)
     with pytest.raises(fairspline.Error):
         fairspline.fit_many(_walks(2, n=10), progress=3)
+
+
+def test_process_pools_can_map_fit():
+    # The module's functions pickle by name (pybind11's are bound to a PyCapsule).
+    import concurrent.futures
+    import pickle
+    for function in (fairspline.fit, fairspline.fit_many, fairspline.methods,
+                     fairspline.read_curve_ensemble):
+        assert pickle.loads(pickle.dumps(function)) is function
+    inputs = [random_walk(12, seed) for seed in range(4)]
+    with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
+        curves = list(pool.map(fairspline.fit, inputs))
+    assert curves == [fairspline.fit(p) for p in inputs]
