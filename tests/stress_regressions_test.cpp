@@ -64,9 +64,6 @@ class StressRegression : public ::testing::TestWithParam<std::string> {};
 /// skipped with the failure as the reason, and fail as soon as the input passes, so that the
 /// list only shrinks.
 const std::set<std::string> kOpen = {
-    "elastic-kkt-s18-c13108.json",
-    "elastic-kkt-s18-c26699.json",
-    "elastic-kkt-s18-c76397.json",
     "kozak-krajnc-not_converged-s18-c10785.json",
     "kozak-krajnc-not_converged-s18-m60-c10026.json",
     "kozak-krajnc-not_converged-s18-m60-c10362.json",

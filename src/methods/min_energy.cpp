@@ -914,7 +914,8 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   };
   double energy = refresh();
   ChainResult res;
-  int flat = 0;  // consecutive Newton steps that changed the energy by rounding only
+  int flat = 0;        // consecutive Newton steps that changed the energy by rounding only
+  bool stuck = false;  // the last Newton direction had no step that lowered the energy
   std::size_t released_ridge = segs;
   // A ridge released and locked again without the energy going down is kept: the estimate of
   // its subgradient (a difference of one-sided gradients) is then not sharp enough to decide.
@@ -949,10 +950,20 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
         res.worst = g.first[a];
       }
     }
-    // Multipliers once stationary on the face: the worst sign violation is released.
+    // The elastic energy's derivatives come from root-finds: when Newton steps stop changing
+    // the energy (the decrease they predict, −g·d/2, below its rounding) or no step lowers it,
+    // with the residual below kElasticPrecision, the face is stationary to what double
+    // precision allows here.
+    const bool stalled = residual <= kElasticPrecision &&
+                         (stuck || (flat >= 3 && -0.5 * last_slope <= 1e-13 * std::abs(energy)));
+    // Multipliers once stationary on the face: the worst sign violation is released. Also when
+    // stationary only to precision: a face whose reduced gradient stalls above tol is still
+    // the wrong face when a multiplier has the wrong sign (issue 18: closed 3–4-point curves
+    // stopped on |α − β| = 180° with the energy going down off it). A wrong sign within the
+    // residual itself is not resolved by the derivatives.
     double worst = 0.0, worst_force = 0.0;
     std::size_t worst_box = k, worst_link = segs;
-    if (residual <= tol) {
+    if (residual <= tol || stalled) {
       for (std::size_t t = 0; t < k; ++t) {
         if (!box[t] || ch.fixed[t] || bound_nodes[g.of[t]] != 1) continue;
         const double v = box[t] < 0 ? -gg[g.of[t]] : gg[g.of[t]];  // > 0: pulls inwards
@@ -996,10 +1007,13 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       }
       res.pg = std::max(residual, worst);
       if (worst > residual) res.worst = worst_box < k ? worst_box : worst_link;
-      if (worst <= tol) {
-        res.converged = true;
+      if (worst <= std::max(tol, residual)) {
+        res.converged = residual <= tol;
+        res.at_precision = !res.converged;
         return res;
       }
+      stuck = false;
+      flat = 0;
       if (worst_box < k) box[worst_box] = 0;
       if (worst_link < segs) {
         // A released ridge may be crossed by the next step: the force says the optimum lies
@@ -1019,14 +1033,6 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       continue;
     }
     res.pg = residual;
-    // The elastic energy's derivatives come from root-finds: when Newton steps stop changing
-    // the energy, the decrease they predict (−g·d/2) is below its rounding and the residual is
-    // below kElasticPrecision, the tolerance is below what double precision allows here.
-    if (flat >= 3 && -0.5 * last_slope <= 1e-13 * std::abs(energy) &&
-        residual <= kElasticPrecision) {
-      res.at_precision = true;
-      return res;
-    }
     if (res.iterations == opt.max_iterations) break;
     // Reduced Newton step, shifted until positive definite.
     const double unit_pivot = pivot_unit(gscale);
@@ -1116,10 +1122,13 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     }
     if (!accepted) {
       // No step lowers the energy: with the residual within the derivatives' own accuracy that
-      // is the optimum to double precision (the stress suite's walks stopped at 5e-10 to 3e-9).
-      res.at_precision = residual <= kElasticPrecision;
-      break;
+      // is the face's optimum to double precision (the stress suite's walks stopped at 5e-10 to
+      // 3e-9); the next iteration checks its multipliers.
+      if (residual > kElasticPrecision || stuck) break;
+      stuck = true;
+      continue;
     }
+    stuck = false;
   }
   return res;
 }

@@ -26,6 +26,7 @@
 #include "fairspline/io/json.hpp"
 #include "fairspline/methods/yong_cheng.hpp"
 #include "fairspline/registry.hpp"
+#include "stress/kkt.hpp"
 #include "test_util.hpp"
 
 namespace fairspline {
@@ -1114,6 +1115,80 @@ TEST(MinEnergyFit, Issue18ElasticClosedThreePointsWithStartTangent) {
       const double phi = 2 * kPi * q / 64;
       const double e = turned(h * std::cos(phi), h * std::sin(phi));
       if (std::isfinite(e)) EXPECT_GE((e - e0) / h, -1e-5 * wmax) << "direction " << q;
+    }
+  }
+}
+
+/// Issue 18: closed 3–4-point elastic curves stopped with |α − β| = 180° active on a span
+/// whose multiplier had the wrong sign (the stress suite's KKT certificate: residual 0.93, 2.03,
+/// 0.44): the coupled active-set Newton stalled on that face with a reduced gradient between
+/// its tolerance and kElasticPrecision and returned "conditioning_limit" without ever checking
+/// the multipliers, so the constraint was never released. Checked independently: the energy of
+/// the old stop is above the new one, the certificate passes, and no feasible turn of any one
+/// or two directions (scales 1e-6 … 0.1) lowers Σ E_1/L.
+TEST(MinEnergyFit, Issue18ElasticReleasesAPairConstraintWithTheWrongSign) {
+  struct Case {
+    std::vector<Point> points;
+    double energy;   // the optimum (pattern search from the old stop agrees to 1e-12)
+    double stopped;  // where the fit stopped before
+  };
+  const std::vector<Case> cases = {{{{0.0, 0.0},
+                                     {-0.9155230786878982, -0.07462921295342947},
+                                     {-4.564745586694919, -0.3720970248636773},
+                                     {-7.5668995192117565, -0.6168187867760688}},
+                                    5.97762132951239,
+                                    6.01884590199294},
+                                   {{{0.0, 0.0},
+                                     {-156.651031857418, -71.7543481556374},
+                                     {-202.81645580892413, -59.38712266245961}},
+                                    0.0871405064161802,
+                                    0.0925257758683788},
+                                   {{{0.0, 0.0},
+                                     {-108.67058905317167, 29.859139013428635},
+                                     {-1612.9922928792282, -900.035790349294}},
+                                    0.0085026442637567,
+                                    0.00870989710026233}};
+  const BasicCurveMethod el{MinEnergyBasis::kElastic, 1.0, kPi};
+  for (const Case& c : cases) {
+    const FitInput in = input_of(c.points, true);
+    const FitResult r = fit("elastic", in, {}, ReportLevel::kBasic);
+    ASSERT_TRUE(r.solver.has_value());
+    EXPECT_EQ(r.solver->status, SolverStatus::kConverged);
+    const double energy = r.method_report.at("energy").get<double>();
+    EXPECT_NEAR(energy, c.energy, 1e-9 * c.energy);
+    EXPECT_LT(energy, c.stopped * (1.0 - 1e-3));
+    const stress::KktResult k = stress::check_optimum(in, r);
+    EXPECT_TRUE(k.checked && k.pass) << k.what;
+    const std::size_t n = c.points.size();
+    // Σ E_1/L with the directions turned by d; infinite outside the s-curve domain.
+    auto turned = [&](const std::vector<double>& d) {
+      double e = 0.0;
+      for (std::size_t s = 0; s < n; ++s) {
+        const std::size_t j = (s + 1) % n;
+        const Vec2 ch = r.points[j] - r.points[s];
+        e += basic_energy(el, signed_angle(ch, r.tangents[s]) + d[s],
+                          signed_angle(ch, r.tangents[j]) + d[j])
+                 .e /
+             norm(ch);
+      }
+      return e;
+    };
+    const double e0 = turned(std::vector<double>(n, 0.0));
+    EXPECT_NEAR(e0, energy, 1e-9 * energy);
+    for (double h : {1e-6, 1e-4, 1e-2, 1e-1}) {
+      for (std::size_t u = 0; u < n; ++u) {
+        for (std::size_t v = u; v < n; ++v) {
+          for (int q = 0; q < 16; ++q) {
+            std::vector<double> d(n, 0.0);
+            d[u] += h * std::cos(2 * kPi * q / 16);
+            d[v] += h * std::sin(2 * kPi * q / 16);
+            const double e = turned(d);
+            if (std::isfinite(e)) {
+              EXPECT_GE(e, e0 * (1.0 - 1e-10)) << "h " << h << " nodes " << u << ", " << v;
+            }
+          }
+        }
+      }
     }
   }
 }
