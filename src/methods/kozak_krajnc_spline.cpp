@@ -1043,6 +1043,101 @@ std::vector<PieceFit> solve_pieces(const Prepared& p, const Directions& d,
   return pieces;
 }
 
+/// The one-unknown G2 problem (m = 2) settled by a scan of ξ1.
+struct G2Scan {
+  bool found = false;
+  std::vector<double> xi;
+  std::vector<PieceFit> pieces;
+  G2Report rep;
+  int sign = 0;            ///< when not found: the sign every admissible jump has (0: none)
+  double smallest = kInf;  ///< its smallest magnitude, at ξ1 = at
+  double at = 0.0;
+  std::string where;  ///< at the edge of the admissible ξ1, or inside
+};
+
+/// Scans ξ1 ∈ (0, 1) on a fine grid for a sign change of the scaled curvature jump (1.4) at T3,
+/// over every pair of piece solutions, each continued to the next grid point by nearest
+/// (t1, t2); a sign change is bisected and polished by the G2 Newton. Without one, reports the
+/// sign and the smallest jump.
+G2Scan scan_g2(const Geometry& g, double xi0, double xi2, int max_iterations) {
+  G2Scan out;
+  constexpr int kGrid = 4000;
+  const std::vector<char> pinned = {1, 0, 1};
+  auto pieces_at = [&](double x, const PieceFit* near1, const PieceFit* near2, PieceFit& f1,
+                       PieceFit& f2) {
+    const Vec2 d3 = direction(g, 1, x);
+    return solve_piece(g, 1, direction(g, 0, xi0), d3, near1, f1) &&
+           solve_piece(g, 2, d3, direction(g, 2, xi2), near2, f2);
+  };
+  auto jump = [&](const PieceFit& f1, const PieceFit& f2) { return g2_residual(g, 1, f1, f2); };
+  auto with = [](const PieceFit& f, int i) {
+    PieceFit c = f;
+    c.s = f.all.items[i];
+    return c;
+  };
+  bool any_pos = false, any_neg = false, prev_ok = false;
+  PieceFit p1, p2, q1, q2;
+  for (int k = 1; k < kGrid; ++k) {
+    const double x = static_cast<double>(k) / kGrid;
+    const bool ok = pieces_at(x, nullptr, nullptr, q1, q2);
+    if (ok) {
+      for (int a = 0; a < q1.all.count; ++a) {
+        for (int b = 0; b < q2.all.count; ++b) {
+          const PieceFit f1 = with(q1, a), f2 = with(q2, b);
+          const double r = jump(f1, f2);
+          if (!std::isfinite(r)) continue;
+          (r > 0 ? any_pos : any_neg) = true;
+          if (std::abs(r) < out.smallest) out.smallest = std::abs(r), out.at = x;
+        }
+      }
+    }
+    if (ok && prev_ok) {
+      // Every pair at the previous point, continued here: a sign change brackets a root.
+      for (int a = 0; a < p1.all.count; ++a) {
+        for (int b = 0; b < p2.all.count; ++b) {
+          PieceFit l1 = with(p1, a), l2 = with(p2, b), r1, r2;
+          const double xl = static_cast<double>(k - 1) / kGrid;
+          if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
+          const double jl = jump(l1, l2), jr = jump(r1, r2);
+          if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) continue;
+          double lo = xl, hi = x, jlo = jl;
+          for (int it = 0; it < 80 && hi - lo > 1e-15; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            PieceFit m1, m2;
+            if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
+            const double jm = jump(m1, m2);
+            if ((jm > 0) == (jlo > 0)) {
+              lo = mid, jlo = jm, l1 = m1, l2 = m2;
+            } else {
+              hi = mid;
+            }
+          }
+          std::vector<double> xi = {xi0, lo, xi2};
+          std::vector<PieceFit> fit = {PieceFit{}, l1, l2};
+          const G2Report rep = solve_g2(g, xi, pinned, max_iterations, fit);
+          if (rep.converged) {
+            out.found = true, out.xi = xi, out.pieces = std::move(fit), out.rep = rep;
+            return out;
+          }
+        }
+      }
+    }
+    prev_ok = ok;
+    if (ok) p1 = q1, p2 = q2;
+  }
+  out.sign = any_pos && !any_neg ? 1 : (any_neg && !any_pos ? -1 : 0);
+  const double step = 1.0 / kGrid;
+  // Smallest at the grid's first or last point: the jump may still fall towards ξ1 = 0 or 1,
+  // where the direction meets a chord and the scan proves nothing (left unsettled).
+  if (out.at <= 1.5 * step || out.at >= 1.0 - 1.5 * step) out.sign = 0;
+  PieceFit e1, e2;
+  const bool edge = !(out.at - step > 0.0 && pieces_at(out.at - step, nullptr, nullptr, e1, e2)) ||
+                    !(out.at + step < 1.0 && pieces_at(out.at + step, nullptr, nullptr, e1, e2));
+  out.where = edge ? "at the edge of the admissible ξ, where a piece loses its solutions"
+                   : "inside the admissible ξ";
+  return out;
+}
+
 /// Optional G2 stage: Newton on (1.4) from the G1 solution. On convergence `d` and `pieces`
 /// take the G2 directions and pieces. Throws kNotConverged unless a best effort is asked for.
 G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directions& d,
@@ -1051,6 +1146,9 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
   const std::size_t m = g.m;
   G2Outcome o;
   if (p.all_given) {
+    // Every breakpoint is pinned, and (1.4) is not asked at a pinned one: no equation is left,
+    // so the request is met as it stands (as for m = 1, which has no interior breakpoint).
+    o.rep.converged = true;
     o.rep.reason = "every direction is prescribed: nothing to solve for";
   } else {
     // Newton is local, so if the G1 start fails, the directions of the local parabolas are
@@ -1083,6 +1181,29 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
         d.in_xi = in_swept_sets(d.sw, d.xi);
         break;
       }
+    }
+  }
+  if (!o.rep.converged && !o.rep.at_cap && m == 2 && !p.fixed[1]) {
+    // One unknown ξ1 between the tangent rule's end directions: (1.4) is one equation in one
+    // variable, settled either way by a scan of every admissible ξ1 and every pair of piece
+    // solutions (Newton alone stalls where a piece's solutions disappear). Not at the cap.
+    const G2Scan scan = scan_g2(g, d.xi[0], d.xi[2], options.g2_max_iterations);
+    if (scan.found) {
+      d.xi = scan.xi;
+      pieces = scan.pieces;
+      d.in_xi = in_swept_sets(d.sw, d.xi);
+      o.rep = scan.rep;
+      o.start = "scan";
+    } else if (scan.sign != 0 && !options.best_effort) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: no G2 spline for the end directions of the tangent rule: over "
+                  "every ξ at " +
+                      pt(3) + " with admissible pieces the scaled curvature jump there keeps " +
+                      (scan.sign > 0 ? "positive" : "negative") + " sign (smallest " +
+                      detail::format_number(scan.smallest) +
+                      " at ξ = " + detail::format_number(scan.at) + ", " + scan.where +
+                      "); ask for a best effort to get the G1 spline instead",
+                  3);
     }
   }
   if (!o.rep.converged && !options.best_effort) {

@@ -580,5 +580,91 @@ TEST(KozakKrajncSolve, BruteForceFindsNothingTheSolverMissed) {
   EXPECT_GT(checked, 1000);
 }
 
+// Issue 18: a G2 request whose directions are all prescribed has no equation left ((1.4) is not
+// asked at a prescribed breakpoint): it is met as it stands, not a solver failure (stress input
+// s18-c10785, one piece with both end tangents).
+TEST(KozakKrajncG2, EveryDirectionPrescribedIsConvergedWithNothingToSolve) {
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {2.3975812885594427, -0.056015887274671744},
+               {2.4283445390940077, -0.07134440355761573},
+               {2.7597342164590533, -0.18841968218413532}};
+  in.start_tangent = Vec2{0.41260279825332263, 0.910911044434926};
+  in.end_tangent = Vec2{0.926533724753417, 0.3762117181781549};
+  const FitResult r = fit("kozak-krajnc", in, {{"g2", true}});
+  const auto& g2 = r.method_report.at("g2");
+  EXPECT_TRUE(g2.at("converged").get<bool>());
+  EXPECT_EQ(g2.at("iterations").get<int>(), 0);
+  EXPECT_EQ(g2.at("max_scaled_curvature_jump").get<double>(), 0.0);
+  ASSERT_TRUE(r.solver.has_value());
+  EXPECT_EQ(r.solver->status, SolverStatus::kConverged);
+}
+
+// Issue 18: with m = 2, (1.4) is one equation in ξ1 between the tangent rule's end directions.
+// For these stress inputs the scaled curvature jump at T3 keeps one sign over every admissible
+// ξ1 (and every pair of piece solutions) and is least where a piece loses its solutions, which is
+// where Newton stalled: no G2 spline exists, and the method says so.
+TEST(KozakKrajncG2, NoG2SolutionForTheRuleEndsIsInfeasibleAtT3) {
+  struct Case {
+    std::vector<Point> points;
+    std::optional<double> gamma;
+    const char* sign;
+    double least;  // the smallest |jump| the best effort's Newton reached
+  };
+  const std::vector<Case> cases = {
+      // s18-m60-c10026: jump > 0.0822 over ξ1 ∈ (0.1966, 1).
+      {{{16.79260776217467, 4.5224953865183615},
+        {14.053155255863352, 13.424506462019568},
+        {-10.622292009804795, 16.92347881129812},
+        {-16.8057001744249, 9.682971794866532},
+        {-27.587191661201164, -8.60098129696809},
+        {1.453246430590698, -19.103520270226674},
+        {22.15421240336348, -15.20651805137946}},
+       0.25068270114528285,
+       "positive",
+       0.08},
+      // s18-m60-c10362: jump < −0.0069 over ξ1 ∈ (0, 0.8216).
+      {{{4.037373776042581, 1.4790215691345368},
+        {1.7061602396765643, 5.153988170429556},
+        {-0.46962532756514275, 5.736252055742903},
+        {-3.9449111822866896, 1.6152048450533756},
+        {-5.3884002766989525, -1.2469957596820735},
+        {0.42064025661080506, -4.411853981702633},
+        {3.188472183631618, -3.187197335474888}},
+       std::nullopt,
+       "negative",
+       0.0068},
+      // s18-m60-c5065: the left piece nearly cusps at T3, jump ≈ 4.9e16 over ξ1 ∈ (0, 0.014).
+      {{{0.0, 0.0},
+        {-0.2114327593785952, 1.3966389247475395},
+        {-1.2750744579027604, 16.395759799159062},
+        {-1.2890247706630324, 16.89951940855364},
+        {-1.2557539811100293, 17.04500769345589},
+        {4.839657314079917, 43.699347575095},
+        {4.856063044916242, 43.77108752266513}},
+       0.8394914730501765,
+       "positive",
+       4e16},
+  };
+  for (const Case& c : cases) {
+    FitInput in;
+    in.points = c.points;
+    nlohmann::json o = {{"g2", true}};
+    if (c.gamma) o["gamma"] = *c.gamma;
+    const Error e = testing::expect_error([&] { fit("kozak-krajnc", in, o); });
+    EXPECT_EQ(e.code(), ErrorCode::kInfeasible) << e.what();
+    EXPECT_EQ(e.index(), std::optional<std::size_t>(3));
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no G2 spline"), std::string::npos) << what;
+    EXPECT_NE(what.find(std::string("keeps ") + c.sign + " sign"), std::string::npos) << what;
+    EXPECT_NE(what.find("at the edge of the admissible"), std::string::npos) << what;
+    // The best effort returns the G1 spline, its jump at T3 no smaller than the scan's bound.
+    const FitResult g1 = fit("kozak-krajnc", in, o, FitOptions{.best_effort = true});
+    const auto& g2 = g1.method_report.at("g2");
+    EXPECT_FALSE(g2.at("converged").get<bool>());
+    EXPECT_GT(g2.at("max_scaled_curvature_jump").get<double>(), c.least);
+  }
+}
+
 }  // namespace
 }  // namespace fairspline
