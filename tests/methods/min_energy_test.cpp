@@ -1114,7 +1114,9 @@ TEST(MinEnergyFit, Issue18ElasticClosedThreePointsWithStartTangent) {
     for (int q = 0; q < 64; ++q) {
       const double phi = 2 * kPi * q / 64;
       const double e = turned(h * std::cos(phi), h * std::sin(phi));
-      if (std::isfinite(e)) EXPECT_GE((e - e0) / h, -1e-5 * wmax) << "direction " << q;
+      if (std::isfinite(e)) {
+        EXPECT_GE((e - e0) / h, -1e-5 * wmax) << "direction " << q;
+      }
     }
   }
 }
