@@ -96,6 +96,17 @@ inline bool span_ranges(const FitResult& r, std::size_t spans, std::vector<std::
   return true;
 }
 
+/// span_ranges of a result of n points, or false with `out` set to the failure it is.
+inline bool spans_of(const FitResult& r, std::size_t n, std::size_t spans,
+                     std::vector<std::size_t>& first, std::vector<std::size_t>& last,
+                     KktResult& out) {
+  if (n >= 2 && span_ranges(r, spans, first, last)) return true;
+  out.pass = false;
+  out.residual = std::numeric_limits<double>::infinity();
+  out.what = "the output does not have one or more Béziers per span";
+  return false;
+}
+
 /// The elastic bases' (α, β) moved onto |α − β| = 180° when the directions read off the Béziers
 /// lie a rounding error beyond it, where E_1 is infinite. (Not further: the gradient varies
 /// like Θ^{1/2} there, 6e-6 at Θ = 1e-12.)
@@ -257,12 +268,7 @@ inline KktResult check_min_energy(const FitInput& in, const FitResult& r,
   const bool closed = r.closed;
   const std::size_t spans = closed ? n : n - 1;
   std::vector<std::size_t> first, last;
-  if (n < 2 || !detail::span_ranges(r, spans, first, last)) {
-    out.pass = false;
-    out.residual = std::numeric_limits<double>::infinity();
-    out.what = "the output does not have one or more Béziers per span";
-    return out;
-  }
+  if (!detail::spans_of(r, n, spans, first, last, out)) return out;
   auto kind = [&](std::size_t i) { return i < in.kinds.size() ? in.kinds[i] : PointKind::kSmooth; };
   auto fixed = [&](std::size_t i) {
     return (kind(i) == PointKind::kClamped && i < in.tangents.size() && in.tangents[i]) ||
@@ -467,12 +473,7 @@ inline KktResult check_g2_breakpoints(const FitInput& in, const FitResult& r) {
   const std::size_t n = r.points.size();
   const std::size_t spans = r.closed ? n : n - 1;
   std::vector<std::size_t> first, last;
-  if (n < 2 || !detail::span_ranges(r, spans, first, last)) {
-    out.pass = false;
-    out.residual = std::numeric_limits<double>::infinity();
-    out.what = "the output does not have one or more Béziers per span";
-    return out;
-  }
+  if (!detail::spans_of(r, n, spans, first, last, out)) return out;
   const std::size_t m = (n - 1) / 3;
   double worst_excess = -1.0;
   for (std::size_t l = 1; l < m; ++l) {
