@@ -1,5 +1,6 @@
 #include "fairspline/io/curve_ensemble.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <numbers>
