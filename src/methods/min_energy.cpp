@@ -601,7 +601,8 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   std::vector<double> xe(k);
   Evaluation further;
   auto extrapolate = [&](double e0, double decrease, double& en) {
-    if (!(e0 - en > -0.75 * decrease)) return;
+    // (Not for a decrease within rounding: there the excess is noise.)
+    if (!(e0 - en > -0.75 * decrease) || -decrease <= rounding_scale) return;
     for (double f = 2.0; f <= 1024.0; f *= 2.0) {
       for (std::size_t i = 0; i < k; ++i) {
         xe[i] = std::clamp(ch.x[i] + f * dir[i], ch.lo[i], ch.hi[i]);
@@ -1386,10 +1387,11 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
 }
 
 /// The exact elastic piece of one span and its Béziers within accuracy·|p1 − p0| (at least
-/// 1e-12 of it, the approximation's floor).
+/// 1e-12 of it, the approximation's floor); `hint`: the optimizer's last solve of the span.
 std::vector<CubicBezier> elastic_span(Point p0, Point p1, double alpha, double beta,
-                                      double accuracy, ElasticSpan& span) {
-  const detail::ElasticaArc arc = detail::elastica_arc(p0, p1, alpha, beta);
+                                      double accuracy, const detail::ElasticaHint* hint,
+                                      ElasticSpan& span) {
+  const detail::ElasticaArc arc = detail::elastica_arc(p0, p1, alpha, beta, hint);
   using Kind = detail::ElasticaArc::Kind;
   span = {.kind = arc.kind == Kind::kStraight   ? "straight"
                   : arc.kind == Kind::kElastica ? "elastica"
@@ -1578,8 +1580,8 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
         if (!(relative >= options.accuracy) || !std::isfinite(relative)) {
           relative = options.accuracy;
         }
-        span_pieces[seg] =
-            elastic_span(p0, p1, std::atan2(sa, ca), std::atan2(sb, cb), relative, rep.spans[seg]);
+        span_pieces[seg] = elastic_span(p0, p1, std::atan2(sa, ca), std::atan2(sb, cb), relative,
+                                        s < ch.hint.size() ? &ch.hint[s] : nullptr, rep.spans[seg]);
         rep.energy += rep.spans[seg].energy;
         if (m.basis == MinEnergyBasis::kElastic &&
             std::abs(rep.spans[seg].alpha - rep.spans[seg].beta) >= kPi * (1.0 - 1e-9)) {
