@@ -40,6 +40,7 @@ const std::vector<std::string> kInputs = {
     "jaklic-zagar-kkt-s18-c455135.json",
     "kozak-krajnc-internal-non_finite-s18-c771484.json",
     "kozak-krajnc-internal-non_finite-s18-c945473.json",
+    "kozak-krajnc-not_converged-s18-c221.json",
     "kozak-krajnc-not_converged-s18-c10785.json",
     "kozak-krajnc-not_converged-s18-m60-c10026.json",
     "kozak-krajnc-not_converged-s18-m60-c10362.json",
@@ -63,9 +64,7 @@ class StressRegression : public ::testing::TestWithParam<std::string> {};
 /// Inputs whose solver bug is not fixed yet (issue 18 stays open for them). Their tests are
 /// skipped with the failure as the reason, and fail as soon as the input passes, so that the
 /// list only shrinks.
-const std::set<std::string> kOpen = {
-    "kozak-krajnc-not_converged-s18-m60-c3050.json",
-};
+const std::set<std::string> kOpen = {};
 
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),
 /// with the code the method must raise for them.
@@ -78,6 +77,12 @@ const std::map<std::string, ErrorCode> kRefused = {
     {"kozak-krajnc-not_converged-s18-m60-c10026.json", ErrorCode::kInfeasible},
     {"kozak-krajnc-not_converged-s18-m60-c10362.json", ErrorCode::kInfeasible},
     {"kozak-krajnc-not_converged-s18-m60-c5065.json", ErrorCode::kInfeasible},
+    // The same, the jump falling towards zero only as ξ1 nears the chord, followed there until
+    // the pieces lose their solutions.
+    {"kozak-krajnc-not_converged-s18-m60-c3050.json", ErrorCode::kInfeasible},
+    // The same where no point of the scan's grid admits both pieces (near-repeated points):
+    // the interval around the G1 solution is scanned on its own.
+    {"kozak-krajnc-not_converged-s18-c221.json", ErrorCode::kInfeasible},
 };
 
 /// Empty when the saved request fits to a certified optimum (or is refused as kRefused says),

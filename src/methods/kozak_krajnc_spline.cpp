@@ -1053,13 +1053,15 @@ struct G2Scan {
   double smallest = kInf;  ///< its smallest magnitude, at ξ1 = at
   double at = 0.0;
   std::string where;  ///< at the edge of the admissible ξ1, or inside
+  std::string scope;  ///< empty, or how the scan was narrowed
 };
 
 /// Scans ξ1 ∈ (0, 1) on a fine grid for a sign change of the scaled curvature jump (1.4) at T3,
 /// over every pair of piece solutions, each continued to the next grid point by nearest
 /// (t1, t2); a sign change is bisected and polished by the G2 Newton. Without one, reports the
-/// sign and the smallest jump.
-G2Scan scan_g2(const Geometry& g, double xi0, double xi2, int max_iterations) {
+/// sign and the smallest jump. `xi1`: the G1 solution's ξ1 (admissible), whose neighbourhood
+/// is scanned on its own when no grid point is admissible.
+G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_iterations) {
   G2Scan out;
   constexpr int kGrid = 4000;
   const std::vector<char> pinned = {1, 0, 1};
@@ -1075,66 +1077,139 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi2, int max_iterations) {
     c.s = f.all.items[i];
     return c;
   };
-  bool any_pos = false, any_neg = false, prev_ok = false;
-  PieceFit p1, p2, q1, q2;
-  for (int k = 1; k < kGrid; ++k) {
-    const double x = static_cast<double>(k) / kGrid;
-    const bool ok = pieces_at(x, nullptr, nullptr, q1, q2);
-    if (ok) {
-      for (int a = 0; a < q1.all.count; ++a) {
-        for (int b = 0; b < q2.all.count; ++b) {
-          const PieceFit f1 = with(q1, a), f2 = with(q2, b);
-          const double r = jump(f1, f2);
-          if (!std::isfinite(r)) continue;
-          (r > 0 ? any_pos : any_neg) = true;
-          if (std::abs(r) < out.smallest) out.smallest = std::abs(r), out.at = x;
+  bool any_pos = false, any_neg = false;
+  // The grid over (x0, x1), kGrid cells; true when a root was polished (then `out` has it).
+  auto scan = [&](double x0, double x1) {
+    bool prev_ok = false;
+    PieceFit p1, p2, q1, q2;
+    for (int k = 1; k < kGrid; ++k) {
+      const double x = x0 + (x1 - x0) * k / kGrid;
+      const bool ok = pieces_at(x, nullptr, nullptr, q1, q2);
+      if (ok) {
+        for (int a = 0; a < q1.all.count; ++a) {
+          for (int b = 0; b < q2.all.count; ++b) {
+            const PieceFit f1 = with(q1, a), f2 = with(q2, b);
+            const double r = jump(f1, f2);
+            if (!std::isfinite(r)) continue;
+            (r > 0 ? any_pos : any_neg) = true;
+            if (std::abs(r) < out.smallest) out.smallest = std::abs(r), out.at = x;
+          }
         }
       }
-    }
-    if (ok && prev_ok) {
-      // Every pair at the previous point, continued here: a sign change brackets a root.
-      for (int a = 0; a < p1.all.count; ++a) {
-        for (int b = 0; b < p2.all.count; ++b) {
-          PieceFit l1 = with(p1, a), l2 = with(p2, b), r1, r2;
-          const double xl = static_cast<double>(k - 1) / kGrid;
-          if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
-          const double jl = jump(l1, l2), jr = jump(r1, r2);
-          if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) continue;
-          double lo = xl, hi = x, jlo = jl;
-          for (int it = 0; it < 80 && hi - lo > 1e-15; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            PieceFit m1, m2;
-            if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
-            const double jm = jump(m1, m2);
-            if ((jm > 0) == (jlo > 0)) {
-              lo = mid, jlo = jm, l1 = m1, l2 = m2;
-            } else {
-              hi = mid;
+      if (ok && prev_ok) {
+        // Every pair at the previous point, continued here: a sign change brackets a root.
+        for (int a = 0; a < p1.all.count; ++a) {
+          for (int b = 0; b < p2.all.count; ++b) {
+            PieceFit l1 = with(p1, a), l2 = with(p2, b), r1, r2;
+            const double xl = x0 + (x1 - x0) * (k - 1) / kGrid;
+            if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
+            const double jl = jump(l1, l2), jr = jump(r1, r2);
+            if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) continue;
+            double lo = xl, hi = x, jlo = jl;
+            for (int it = 0; it < 80 && hi - lo > 1e-15; ++it) {
+              const double mid = 0.5 * (lo + hi);
+              PieceFit m1, m2;
+              if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
+              const double jm = jump(m1, m2);
+              if ((jm > 0) == (jlo > 0)) {
+                lo = mid, jlo = jm, l1 = m1, l2 = m2;
+              } else {
+                hi = mid;
+              }
+            }
+            std::vector<double> xi = {xi0, lo, xi2};
+            std::vector<PieceFit> fit = {PieceFit{}, l1, l2};
+            const G2Report rep = solve_g2(g, xi, pinned, max_iterations, fit);
+            if (rep.converged) {
+              out.found = true, out.xi = xi, out.pieces = std::move(fit), out.rep = rep;
+              return true;
             }
           }
-          std::vector<double> xi = {xi0, lo, xi2};
-          std::vector<PieceFit> fit = {PieceFit{}, l1, l2};
-          const G2Report rep = solve_g2(g, xi, pinned, max_iterations, fit);
-          if (rep.converged) {
-            out.found = true, out.xi = xi, out.pieces = std::move(fit), out.rep = rep;
-            return out;
-          }
         }
       }
+      prev_ok = ok;
+      if (ok) p1 = q1, p2 = q2;
     }
-    prev_ok = ok;
-    if (ok) p1 = q1, p2 = q2;
+    return false;
+  };
+  double step = 1.0 / kGrid;
+  if (scan(0.0, 1.0)) return out;
+  if (!any_pos && !any_neg && xi1 > 0.0 && xi1 < 1.0) {
+    // No grid point admits both pieces, but the G1 solution's ξ1 does (near-repeated points):
+    // the admissible ξ1 around it is narrower than a cell. Its ends by doubling steps and
+    // bisection, then the same scan over it.
+    PieceFit f1, f2;
+    auto admissible = [&](double x) {
+      return x > 0.0 && x < 1.0 && pieces_at(x, nullptr, nullptr, f1, f2);
+    };
+    double ends[2];
+    for (int side = 0; side < 2; ++side) {
+      const double dir = side == 0 ? -1.0 : 1.0;
+      double in = xi1, h = 1e-12;
+      while (h < 1.0 && admissible(xi1 + dir * h)) in = xi1 + dir * h, h *= 2.0;
+      double outside = xi1 + dir * h;
+      for (int it = 0; it < 60 && std::abs(outside - in) > 1e-15; ++it) {
+        const double mid = 0.5 * (in + outside);
+        (admissible(mid) ? in : outside) = mid;
+      }
+      ends[side] = in;
+    }
+    if (ends[1] > ends[0]) {
+      step = (ends[1] - ends[0]) / kGrid;
+      out.scope = " around the G1 spline's ξ (from " + detail::format_number(ends[0]) + " to " +
+                  detail::format_number(ends[1]) + "; no point of a 4000-point grid on (0, 1) " +
+                  "admits both pieces)";
+      if (scan(ends[0], ends[1])) return out;
+    }
   }
   out.sign = any_pos && !any_neg ? 1 : (any_neg && !any_pos ? -1 : 0);
-  const double step = 1.0 / kGrid;
-  // Smallest at the grid's first or last point: the jump may still fall towards ξ1 = 0 or 1,
-  // where the direction meets a chord and the scan proves nothing (left unsettled).
-  if (out.at <= 1.5 * step || out.at >= 1.0 - 1.5 * step) out.sign = 0;
   PieceFit e1, e2;
   const bool edge = !(out.at - step > 0.0 && pieces_at(out.at - step, nullptr, nullptr, e1, e2)) ||
                     !(out.at + step < 1.0 && pieces_at(out.at + step, nullptr, nullptr, e1, e2));
   out.where = edge ? "at the edge of the admissible ξ, where a piece loses its solutions"
                    : "inside the admissible ξ";
+  // Smallest at the grid's first or last point: the jump may still fall towards ξ1 = 0 or 1,
+  // where the direction meets a chord. Followed there geometrically (ξ = edge ∓ step·2⁻ᵏ, every
+  // branch continued) down to the spacing of doubles: a sign change is polished as above;
+  // otherwise the jump keeps its sign up to the edge, which is not admissible (issue 18:
+  // s18-m60-c3050, jump ~ (1 − ξ)³ · 10¹⁰ of one sign).
+  const bool low = out.at <= 1.5 * step, high = out.at >= 1.0 - 1.5 * step;
+  if (out.sign != 0 && (low || high)) {
+    const double x_edge = low ? 0.0 : 1.0, dir = low ? 1.0 : -1.0;
+    PieceFit c1, c2;
+    double x_prev = x_edge + dir * step;
+    if (!pieces_at(x_prev, nullptr, nullptr, c1, c2)) {
+      out.sign = 0;  // (not reached: the smallest jump was found there)
+      return out;
+    }
+    bool lost = false;
+    for (int k = 1; k <= 60; ++k) {
+      const double x = x_edge + dir * std::ldexp(step, -k);
+      if (x == x_edge || x == x_prev) break;
+      bool any = false;
+      for (int a = 0; a < c1.all.count; ++a) {
+        for (int b = 0; b < c2.all.count; ++b) {
+          PieceFit l1 = with(c1, a), l2 = with(c2, b), r1, r2;
+          if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
+          const double jl = jump(l1, l2), jr = jump(r1, r2);
+          if (!std::isfinite(jr)) continue;
+          any = true;
+          if (std::abs(jr) < out.smallest) out.smallest = std::abs(jr), out.at = x;
+          if (std::isfinite(jl) && (jl > 0) != (jr > 0)) {
+            out.sign = 0;  // a root near the edge: left to Newton's report (not met so far)
+            return out;
+          }
+        }
+      }
+      lost = !any || !pieces_at(x, &c1, &c2, e1, e2);
+      if (lost) break;  // the pieces lose their solutions before the edge
+      c1 = e1, c2 = e2, x_prev = x;
+    }
+    out.where = lost ? "falling towards ξ = " + std::string(low ? "0" : "1") +
+                           " until the pieces lose their solutions"
+                     : "falling to zero only at ξ = " + std::string(low ? "0" : "1") +
+                           ", where the direction meets a chord (not admissible)";
+  }
   return out;
 }
 
@@ -1183,11 +1258,12 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       }
     }
   }
-  if (!o.rep.converged && !o.rep.at_cap && m == 2 && !p.fixed[1]) {
+  if (!o.rep.converged && m == 2 && !p.fixed[1]) {
     // One unknown ξ1 between the tangent rule's end directions: (1.4) is one equation in one
     // variable, settled either way by a scan of every admissible ξ1 and every pair of piece
-    // solutions (Newton alone stalls where a piece's solutions disappear). Not at the cap.
-    const G2Scan scan = scan_g2(g, d.xi[0], d.xi[2], options.g2_max_iterations);
+    // solutions (Newton alone stalls where a piece's solutions disappear, or creeps towards an
+    // edge of the admissible ξ until the iteration cap).
+    const G2Scan scan = scan_g2(g, d.xi[0], d.xi[1], d.xi[2], options.g2_max_iterations);
     if (scan.found) {
       d.xi = scan.xi;
       pieces = scan.pieces;
@@ -1198,7 +1274,8 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: no G2 spline for the end directions of the tangent rule: over "
                   "every ξ at " +
-                      pt(3) + " with admissible pieces the scaled curvature jump there keeps " +
+                      pt(3) + " with admissible pieces" + scan.scope +
+                      " the scaled curvature jump there keeps " +
                       (scan.sign > 0 ? "positive" : "negative") + " sign (smallest " +
                       detail::format_number(scan.smallest) +
                       " at ξ = " + detail::format_number(scan.at) + ", " + scan.where +
