@@ -21,6 +21,7 @@
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/io/json.hpp"
+#include "fairspline/methods/min_energy.hpp"
 #include "fairspline/registry.hpp"
 #include "stress/kkt.hpp"
 #include "test_util.hpp"
@@ -234,6 +235,40 @@ TEST(StressKkt, G2CertificateOfKozakKrajnc) {
   CubicBezier& left = r.spline.segments[2].bezier;
   left.p[1] = left.p[1] + 1e-3 * perp(left.p[3] - left.p[0]);
   EXPECT_FALSE(stress::check_optimum(p.input, r).pass);
+}
+
+// Chains of 4096 nodes or more finish the few nodes left above the tolerance in windows of their
+// own (min_energy.cpp, solve_windows): the optimum they return must pass the same certificate.
+TEST(StressKkt, LongChainsFinishedInWindowsAreCertified) {
+  struct Case {
+    MinEnergyBasis basis;
+    const char* name;
+    double turn_deg;
+    bool closed;
+  };
+  int passes = 0;
+  for (const Case c :
+       {Case{MinEnergyBasis::kCondG2, "quasi-elastic", 100, false},
+        Case{MinEnergyBasis::kCondG2, "quasi-elastic", 120, true},
+        Case{MinEnergyBasis::kRestrictedElastic, "restricted-elastic", 120, false}}) {
+    SCOPED_TRACE(c.name);
+    FitInput in = walk_input(6000, 11, c.turn_deg);
+    in.closed = c.closed;
+    MinEnergyOptions o;
+    o.method.basis = c.basis;
+    FitResult direct;
+    MinEnergyReport rep;
+    fit_min_energy(in, o, ReportLevel::kNone, direct, &rep);
+    passes += rep.window_passes;
+    EXPECT_LE(rep.projected_gradient, o.tolerance);
+    // The same fit through the registry, which the certificate reads (method and options).
+    const FitResult r = fit(c.name, in, {}, ReportLevel::kNone);
+    ASSERT_EQ(r.spline.segments.size(), direct.spline.segments.size());
+    const stress::KktResult k = stress::check_optimum(in, r);
+    EXPECT_TRUE(k.checked);
+    EXPECT_TRUE(k.pass) << k.what;
+  }
+  EXPECT_GE(passes, 1);  // the windows were used
 }
 
 }  // namespace

@@ -120,6 +120,9 @@ struct ElasticSpan {
 /// Outcome of the optimizer (also in FitResult::method_report).
 struct MinEnergyReport {
   int iterations = 0;
+  /// Long chains (≥ 4096 nodes): how many times the few nodes left above the tolerance were
+  /// solved in windows of their own (each counts as an iteration too; docs/methods/min-energy.md).
+  int window_passes = 0;
   double energy = 0.0;
   double projected_gradient = 0.0;  ///< final, relative (see MinEnergyOptions::tolerance)
   std::vector<std::size_t> active;  ///< points whose direction sits on a bound of D_i
