@@ -1262,15 +1262,17 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
     // One unknown ξ1 between the tangent rule's end directions: (1.4) is one equation in one
     // variable, settled either way by a scan of every admissible ξ1 and every pair of piece
     // solutions (Newton alone stalls where a piece's solutions disappear, or creeps towards an
-    // edge of the admissible ξ until the iteration cap).
+    // edge of the admissible ξ until the iteration cap: then only a proof of no root counts).
     const G2Scan scan = scan_g2(g, d.xi[0], d.xi[1], d.xi[2], options.g2_max_iterations);
-    if (scan.found) {
+    // At the iteration cap a root the scan finds stays unused (the cap is the user's: the
+    // answer remains the iteration limit); a proof that none exists is still reported.
+    if (scan.found && !o.rep.at_cap) {
       d.xi = scan.xi;
       pieces = scan.pieces;
       d.in_xi = in_swept_sets(d.sw, d.xi);
       o.rep = scan.rep;
       o.start = "scan";
-    } else if (scan.sign != 0 && !options.best_effort) {
+    } else if (!scan.found && scan.sign != 0 && !options.best_effort) {
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: no G2 spline for the end directions of the tangent rule: over "
                   "every ξ at " +
