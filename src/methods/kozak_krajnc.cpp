@@ -685,7 +685,8 @@ detail::BernsteinRoots model_roots(const double* c, int k, double S) {
 /// multiplicity k at that point, to full precision. Otherwise the model's real roots start Newton
 /// on (F, G): distinct close roots (or none, where rounding was not what made the curves touch).
 ClusterRegion resolve_cluster(const ClearedSystem& sys, const Magnitudes& mag, double x0, double y0,
-                              int max_order, std::vector<Root>& out) {
+                              int max_order, std::vector<Root>& out,
+                              std::vector<ClusterRegion>& inner_done) {
   Cluster cl(sys, mag, x0, y0);
   for (int k = 2; k <= max_order; ++k) {
     double u = 0.0, v = 0.0;
@@ -735,7 +736,12 @@ ClusterRegion resolve_cluster(const ClearedSystem& sys, const Magnitudes& mag, d
       // may still look singular). Model roots that the model itself cannot separate are a
       // smaller cluster inside this one.
       if (starts.items[i].count != 1 && singular && k > 2) {
-        resolve_cluster(sys, mag, x, y, k - 1, out);
+        // Several starts polish into the same smaller cluster: resolved once (each resolving
+        // it again branched again, k! times: a 9-point request took 8 s, issue 18's stress).
+        const bool seen = std::any_of(inner_done.begin(), inner_done.end(), [&](const auto& c) {
+          return std::hypot(x - c.t1, y - c.t2) <= std::max(c.radius, same);
+        });
+        if (!seen) inner_done.push_back(resolve_cluster(sys, mag, x, y, k - 1, out, inner_done));
       } else {
         out.push_back({x, y, 1, same});
       }
@@ -857,7 +863,8 @@ KozakKrajncSolutions solve_unit(Point T0, Point T1, Point T2, Point T3, Vec2 d0,
     }
     std::vector<Root> resolved;
     const Magnitudes mag = magnitudes(k, e0, e1, e2, d0, d3);
-    regions.push_back(resolve_cluster(sys, mag, x, y, kMaxContact, resolved));
+    std::vector<ClusterRegion> inner;
+    regions.push_back(resolve_cluster(sys, mag, x, y, kMaxContact, resolved, inner));
     for (const Root& r : resolved) keep(r);
   };
   // Q's roots closer than this to a neighbour are treated as a cluster.
