@@ -41,16 +41,22 @@ const std::vector<std::string> kInputs = {
     "jaklic-zagar-kkt-s18-c455135.json",
     "kozak-krajnc-internal-non_finite-s18-c771484.json",
     "kozak-krajnc-internal-non_finite-s18-c945473.json",
-    "kozak-krajnc-not_converged-s18-c221.json",
     "kozak-krajnc-not_converged-s18-c10785.json",
+    "kozak-krajnc-not_converged-s18-c221.json",
     "kozak-krajnc-not_converged-s18-m60-c10026.json",
     "kozak-krajnc-not_converged-s18-m60-c10362.json",
     "kozak-krajnc-not_converged-s18-m60-c3050.json",
     "kozak-krajnc-not_converged-s18-m60-c5065.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-not_converged-s18-c130322.json",
+    "restricted-elastic-not_converged-s18-c191336.json",
     "restricted-elastic-not_converged-s18-c214718.json",
+    "restricted-elastic-not_converged-s18-c218447.json",
+    "restricted-elastic-not_converged-s18-c317837.json",
     "restricted-elastic-not_converged-s18-c43473.json",
+    "restricted-elastic-not_converged-s18-c584544.json",
+    "restricted-elastic-not_converged-s18-c624733.json",
+    "restricted-elastic-not_converged-s18-c707338.json",
 };
 
 std::string read_file(const std::string& path) {

@@ -672,12 +672,32 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // iteration per ~10% of progress (a 10⁴-point walk: 50 → 21 iterations; 10⁵: 121 → 43).
   std::vector<double> xe(k);
   Evaluation further;
+  // Also after a full step in nearly the direction of the last one ("creeping": the PSD
+  // projection keeps each step short where E_1 is concave, and the iterate walked out of such a
+  // region by ~1e-6 of the gradient per iteration: six of 10⁶ stress walks stopped at the
+  // 200-iteration cap with projected gradients 8e-10 … 4e-6, issue 18).
+  std::vector<double> last_dir;
+  auto creeping = [&] {
+    if (last_dir.size() != k) return false;
+    double dd_ = 0.0, ll = 0.0, dl = 0.0;
+    for (std::size_t i = 0; i < k; ++i) {
+      dd_ += dir[i] * dir[i];
+      ll += last_dir[i] * last_dir[i];
+      dl += dir[i] * last_dir[i];
+    }
+    return dl > 0.95 * std::sqrt(dd_ * ll);
+  };
   auto extrapolate = [&](double e0, double decrease, double& en) {
-    // (Not for a decrease within rounding: there the excess is noise.)
-    if (!(e0 - en > -0.75 * decrease) || -decrease <= rounding_scale) return;
+    // (Not for a decrease within rounding: there the excess is noise; but a creeping step's
+    // direction is no noise.)
+    const bool creep = creeping();
+    if (!creep && (!(e0 - en > -0.75 * decrease) || -decrease <= rounding_scale)) return;
     for (double f = 2.0; f <= 1024.0; f *= 2.0) {
       for (std::size_t i = 0; i < k; ++i) {
-        xe[i] = std::clamp(ch.x[i] + f * dir[i], ch.lo[i], ch.hi[i]);
+        // Creeping: only the nodes moving on as before (a stiff node whose Newton step is
+        // right alternates in sign around its optimum; doubling it overshot, issue 18).
+        const double fi = !creep || dir[i] * last_dir[i] > 0.0 ? f : 1.0;
+        xe[i] = std::clamp(ch.x[i] + fi * dir[i], ch.lo[i], ch.hi[i]);
       }
       const double e = evaluate(ch, m, xe, true, further, cs);
       if (!(e < en)) return;
@@ -762,7 +782,10 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       const bool rounding =
           step == 1.0 && en <= energy + rounding_scale && -decrease <= rounding_scale;
       if ((en <= energy + 1e-4 * decrease || rounding) && decrease < 0.0) {
-        if (step == 1.0 && psd_first) extrapolate(energy, decrease, en);
+        if (step == 1.0 && psd_first) {
+          extrapolate(energy, decrease, en);
+          last_dir.assign(dir.begin(), dir.end());
+        }
         ch.x.swap(xn);
         if (step == 1.0) {
           std::swap(ev, trial);
