@@ -35,9 +35,11 @@ const std::string kDir = std::string(FAIRSPLINE_TEST_DATA_DIR) + "/stress";
 const std::vector<std::string> kInputs = {
     "elastic-kkt-s18-c13108.json",
     "elastic-kkt-s18-c26699.json",
+    "elastic-kkt-s18-c4322.json",
     "elastic-kkt-s18-c76397.json",
     "elastic-not_converged-s18-c10414.json",
     "elastic-not_converged-s18-c15088.json",
+    "elastic-not_converged-s18-c1595.json",
     "jaklic-zagar-kkt-s18-c455135.json",
     "kozak-krajnc-internal-non_finite-s18-c771484.json",
     "kozak-krajnc-internal-non_finite-s18-c945473.json",
@@ -74,6 +76,10 @@ class StressRegression : public ::testing::TestWithParam<std::string> {};
 /// skipped with the failure as the reason, and fail as soon as the input passes, so that the
 /// list only shrinks.
 const std::set<std::string> kOpen = {
+    // elastic: a closed, nearly collinear 3-point curve with a start tangent that stops at once
+    // ("projected gradient 0 … above the tolerance"), and an optimum 1.6e-6 from KKT.
+    "elastic-kkt-s18-c4322.json",
+    "elastic-not_converged-s18-c1595.json",
     // Kozak-Krajnc G2 with three or more pieces: whether (1.4) has a solution is open.
     "kozak-krajnc-not_converged-s18-c131.json",
     "kozak-krajnc-not_converged-s18-c18.json",
