@@ -474,6 +474,8 @@ struct ChainResult {
   bool converged = false;
   /// Stopped at the accuracy of the energy's own derivatives (converged to that limit).
   bool at_precision = false;
+  /// elastic: the restricted start breaks a pair constraint (infinite energy): nothing was run.
+  bool no_start = false;
   std::size_t worst = 0;  ///< the chain node with the largest residual
 };
 
@@ -1034,7 +1036,17 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   // its subgradient (a difference of one-sided gradients) is then not sharp enough to decide.
   std::vector<int> ridge_releases(segs, 0);
   double last_slope = 0.0;
-  if (!std::isfinite(energy)) return res;  // no feasible start (reported by the caller)
+  if (!std::isfinite(energy)) {  // no feasible start (reported by the caller)
+    res.no_start = true;
+    for (std::size_t s = 0; s < segs; ++s) {
+      const auto [alpha, beta] = segment_angles(ch, ch.x, s);
+      if (!detail::elastica_feasible(alpha, beta)) {
+        res.worst = s;
+        break;
+      }
+    }
+    return res;
+  }
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
     const Groups g = make_groups(ch, link);
     const std::size_t G = g.first.size();
@@ -1654,6 +1666,15 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
     converged = converged && (r.converged || r.at_precision);
     at_precision = at_precision || r.at_precision;
+    if (r.no_start) {
+      // (Not best effort either: there is no curve to return.)
+      throw Error(ErrorCode::kNotConverged,
+                  "min-energy: no start for the elastic spline: its start, the restricted "
+                  "elastic spline with the given tangents, has no s-curve on the piece from "
+                  "this point (end directions 180 degrees or more apart); no other start is "
+                  "tried",
+                  ch.node[r.worst]);
+    }
     if (!r.converged && !r.at_precision && !options.best_effort) {
       throw Error(ErrorCode::kNotConverged,
                   "min-energy: the projected Newton method stopped after " +
