@@ -99,7 +99,9 @@ TEST(CurveEnsemble, EveryStateSurvivesAWriteAndARead) {
         if (!in->closed && i + 1 == in->points.size()) want.out = F;
         EXPECT_EQ(back.states[i], want);
         const double corner = i < back.corners_deg.size() ? back.corners_deg[i] : 0.0;
-        if (want == NodeState{R, R}) EXPECT_EQ(corner, in->corners_deg[i]);
+        if (want == NodeState{R, R}) {
+          EXPECT_EQ(corner, in->corners_deg[i]);
+        }
         for (bool side_in : {true, false}) {
           const auto& given = side_in ? in->in_tangents : in->out_tangents;
           const auto& read = side_in ? back.in_tangents : back.out_tangents;
