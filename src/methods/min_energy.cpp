@@ -1088,11 +1088,23 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     // residual itself is not resolved by the derivatives.
     double worst = 0.0, worst_force = 0.0;
     std::size_t worst_box = k, worst_link = segs;
+    // Per group, its worst wrong-signed box or (non-ridge) link: released together, one per
+    // group, when no ridge is the worst (one release per stationary point took a global
+    // re-solve each: a 10⁴-point elastic walk reached the 200-iteration cap).
+    std::vector<double> group_worst;
+    std::vector<std::size_t> group_box, group_link;
+    auto note = [&](std::size_t a, double v, std::size_t t, std::size_t s) {
+      if (v > group_worst[a]) group_worst[a] = v, group_box[a] = t, group_link[a] = s;
+    };
     if (residual <= tol || stalled) {
+      group_worst.assign(G, 0.0);
+      group_box.assign(G, k);
+      group_link.assign(G, segs);
       for (std::size_t t = 0; t < k; ++t) {
         if (!box[t] || ch.fixed[t] || bound_nodes[g.of[t]] != 1) continue;
         const double v = box[t] < 0 ? -gg[g.of[t]] : gg[g.of[t]];  // > 0: pulls inwards
         if (v / gscale > worst) worst = v / gscale, worst_box = t, worst_link = segs;
+        note(g.of[t], v / gscale, t, segs);
       }
       for (std::size_t a = 0; a < G; ++a) {
         // The force through link u (node u to u+1 of the group) balances the gradients on the
@@ -1128,6 +1140,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
             worst = v / gscale, worst_link = s, worst_box = k;
             worst_force = force;
           }
+          if (link[s] != kRidge) note(a, v / gscale, k, s);
         }
       }
       res.pg = std::max(residual, worst);
@@ -1140,6 +1153,14 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       stuck = false;
       flat = 0;
       if (worst_box < k) box[worst_box] = 0;
+      if (worst_link == segs || link[worst_link] != kRidge) {
+        const double floor_v = std::max(tol, residual);
+        for (std::size_t a = 0; a < G; ++a) {
+          if (!(group_worst[a] > floor_v)) continue;
+          if (group_box[a] < k) box[group_box[a]] = 0;
+          if (group_link[a] < segs) link[group_link[a]] = 0;
+        }
+      }
       if (worst_link < segs) {
         // A released ridge may be crossed by the next step: the force says the optimum lies
         // beyond it, on the side the iterate (up to rounding) may not be on yet.
