@@ -486,12 +486,17 @@ struct ChainResult {
 /// capped by the box width for small data (every fit "converged" at iteration 0) and rounded to
 /// 0 for large data (found by the extremes suite: quasi-elastic gave another curve at 2^-50).
 /// `worst`: the node where it is largest (named by the not-converged error).
+/// Node i's projected gradient |x − P(x − g/gscale)|.
+double node_residual(const Chain& ch, std::span<const double> g, double gscale, std::size_t i) {
+  return std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i] / gscale, ch.lo[i], ch.hi[i]));
+}
+
 double projected_gradient(const Chain& ch, std::span<const double> g, double gscale,
                           std::size_t& worst) {
   double pg = 0.0;
   worst = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
-    const double v = std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i] / gscale, ch.lo[i], ch.hi[i]));
+    const double v = node_residual(ch, g, gscale, i);
     if (v > pg) pg = v, worst = i;
   }
   return pg;
@@ -722,8 +727,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     if (k >= kWindowMinNodes && !windows_last) {
       residual.resize(k);
       for (std::size_t i = 0; i < k; ++i) {
-        residual[i] =
-            std::abs(ch.x[i] - std::clamp(ch.x[i] - ev.g[i] / gscale, ch.lo[i], ch.hi[i]));
+        residual[i] = node_residual(ch, ev.g, gscale, i);
       }
       if (solve_windows(ch, opt, gscale, residual)) {
         windows_last = true;
