@@ -40,6 +40,13 @@ const std::vector<std::string> kInputs = {
     "elastic-not_converged-s18-c10414.json",
     "elastic-not_converged-s18-c15088.json",
     "elastic-not_converged-s18-c1595.json",
+    "elastic-not_converged-s18-c2424.json",
+    "elastic-not_converged-s18-c3029.json",
+    "elastic-not_converged-s18-c3820.json",
+    "elastic-not_converged-s18-c4274.json",
+    "elastic-not_converged-s18-c713.json",
+    "elastic-ok-s18-c1730.json",
+    "elastic-ok-s18-c982.json",
     "jaklic-zagar-kkt-s18-c455135.json",
     "kozak-krajnc-internal-non_finite-s18-c771484.json",
     "kozak-krajnc-internal-non_finite-s18-c945473.json",
@@ -76,10 +83,6 @@ class StressRegression : public ::testing::TestWithParam<std::string> {};
 /// skipped with the failure as the reason, and fail as soon as the input passes, so that the
 /// list only shrinks.
 const std::set<std::string> kOpen = {
-    // elastic: a closed, nearly collinear 3-point curve with a start tangent that stops at once
-    // ("projected gradient 0 … above the tolerance"), and an optimum 1.6e-6 from KKT.
-    "elastic-kkt-s18-c4322.json",
-    "elastic-not_converged-s18-c1595.json",
     // Kozak-Krajnc G2 with three or more pieces: whether (1.4) has a solution is open.
     "kozak-krajnc-not_converged-s18-c131.json",
     "kozak-krajnc-not_converged-s18-c18.json",

@@ -6,10 +6,12 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <queue>
 #include <string>
 #include <utility>
 
@@ -1005,7 +1007,8 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   const std::size_t k = ch.node.size(), segs = ch.segments();
   Evaluation ev, trial;
   Scratch cs, work;
-  std::vector<double> xn(k), dir(k), dd, ee, rhs;
+  std::vector<double> xn(k), dir(k), dd, ee, rhs, stop;
+  std::vector<std::size_t> stop_node;
   std::vector<signed char> box(k, 0), link(segs, 0);
   const double tol = opt.tolerance;
   auto pair_value = [&](std::span<const double> x, std::size_t s) {
@@ -1020,11 +1023,17 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     if (v <= pb.lo[s]) link[s] = -1;
     if (v >= pb.hi[s]) link[s] = 1;
   }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<double> half_jump;
-  for (std::size_t s = 0; s < segs; ++s) {
-    const auto [alpha, beta] = segment_angles(ch, ch.x, s);
-    if (!link[s] && alpha == beta && ridge_capable(alpha, beta)) link[s] = kRidge;
-  }
+  // A free segment exactly on a ridge (at the start, or when both its nodes' boxes held it there
+  // and one is released) is locked on it: its derivatives there are the kink's, not a side's.
+  auto lock_ridges = [&] {
+    for (std::size_t s = 0; s < segs; ++s) {
+      const auto [alpha, beta] = segment_angles(ch, ch.x, s);
+      if (!link[s] && alpha == beta && ridge_capable(alpha, beta)) link[s] = kRidge;
+    }
+  };
+  lock_ridges();
   // Every fresh evaluation gets the ridges' mean derivatives.
   auto refresh = [&] {
     const double e = evaluate(ch, m, ch.x, true, ev, cs);
@@ -1146,6 +1155,40 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
           }
           if (link[s] != kRidge) note(a, v / gscale, k, s);
         }
+        if (bound_nodes[a] < 2) continue;
+        // Between two bound nodes the multipliers are not unique: KKT holds when some choice
+        // has every sign right. The link multiplier λ_u = λ_{u−1} − g_u − (box reaction) is
+        // propagated as an interval; its distance from what the signs allow is the violation.
+        double lam_lo = 0.0, lam_hi = 0.0, gap = 0.0, pull = 0.0;
+        std::size_t puller = k;
+        for (std::size_t u = 0; u < n; ++u) {
+          const std::size_t t = (first + u) % k;
+          lam_lo -= ev.g[t];
+          lam_hi -= ev.g[t];
+          if (box[t] && ch.fixed[t]) lam_lo = -kInf, lam_hi = kInf;
+          if (box[t] < 0 && !ch.fixed[t]) lam_hi = kInf;
+          if (box[t] > 0) lam_lo = -kInf;
+          // A bound node pulled inwards by its own gradient is the one to release.
+          const double v = box[t] < 0 ? -ev.g[t] : box[t] > 0 ? ev.g[t] : 0.0;
+          if (box[t] && !ch.fixed[t] && v > pull) pull = v, puller = t;
+          double allow_lo = 0.0, allow_hi = 0.0;  // past the group's last node: λ = 0
+          if (u + 1 < n) {
+            const signed char l = link[t];
+            const bool kept = l == kRidge && ridge_releases[t] >= 2;
+            allow_lo = l > 0 && l != kRidge ? 0.0 : l == kRidge && !kept ? -half_jump[t] : -kInf;
+            allow_hi = l < 0 ? 0.0 : l == kRidge && !kept ? half_jump[t] : kInf;
+          }
+          if (lam_hi < allow_lo) {
+            gap = std::max(gap, allow_lo - lam_hi), lam_lo = lam_hi = allow_lo;
+          } else if (lam_lo > allow_hi) {
+            gap = std::max(gap, lam_lo - allow_hi), lam_lo = lam_hi = allow_hi;
+          } else {
+            lam_lo = std::max(lam_lo, allow_lo), lam_hi = std::min(lam_hi, allow_hi);
+          }
+        }
+        if (puller == k) continue;  // (then no single box is the one to release)
+        if (gap / gscale > worst) worst = gap / gscale, worst_box = puller, worst_link = segs;
+        note(a, gap / gscale, puller, segs);
       }
       res.pg = std::max(residual, worst);
       if (worst > residual) res.worst = worst_box < k ? worst_box : worst_link;
@@ -1173,12 +1216,15 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
           ++ridge_releases[worst_link];
           // Step off the ridge to the side where the energy goes down (first order: the force
           // beyond the kink's half-jump), so that the next derivatives are that side's.
-          const std::size_t t = worst_link;
-          ch.x[t] =
-              std::clamp(ch.x[t] - std::copysign(kRidgeStep, worst_force), ch.lo[t], ch.hi[t]);
+          // (Its end node when the start node is held at its box.)
+          const std::size_t t = worst_link, j = t + 1 == k ? 0 : t + 1;
+          const double off = std::copysign(kRidgeStep, worst_force), was = ch.x[t];
+          ch.x[t] = std::clamp(was - off, ch.lo[t], ch.hi[t]);
+          if (ch.x[t] == was) ch.x[j] = std::clamp(ch.x[j] + off, ch.lo[j], ch.hi[j]);
         }
         link[worst_link] = 0;
       }
+      lock_ridges();
       energy = refresh();
       continue;
     }
@@ -1208,66 +1254,132 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       tau = tau == 0.0 ? 1e-10 * std::max(dmax, gscale) : 4.0 * tau;
     }
     for (std::size_t t = 0; t < k; ++t) dir[t] = rhs[g.of[t]];
-    // Ratio test: the first inactive constraint on the way.
-    double smax = 1.0;
-    std::size_t block_box = k, block_link = segs;
-    bool block_ridge = false;
+    // The path: each group moves along its Newton direction until something stops it, then
+    // stays: its first node reaching its box, or a pair constraint or ridge between it and a
+    // neighbouring group (which stops both). The path is feasible and piecewise linear, and
+    // everything met on it becomes active, many constraints per step (a ratio test adding one
+    // per iteration left a 10⁴-point walk at the iteration cap). Stops are events in time
+    // order; a stop changes only the times of the links at its group's two ends.
+    stop.assign(G, kInf);
+    stop_node.assign(G, k);
+    std::vector<double> box_at(G, kInf), link_at(segs, kInf), fired_at(segs, kInf);
+    std::vector<std::size_t> box_node(G, k);
+    std::vector<signed char> link_state(segs, 0);
     for (std::size_t t = 0; t < k; ++t) {
       if (box[t] || dir[t] == 0.0) continue;
       const double room = dir[t] > 0.0 ? ch.hi[t] - ch.x[t] : ch.lo[t] - ch.x[t];
       const double s = std::max(0.0, room / dir[t]);
-      if (s < smax) smax = s, block_box = t, block_link = segs;
+      if (s < box_at[g.of[t]]) box_at[g.of[t]] = s, box_node[g.of[t]] = t;
     }
-    for (std::size_t s = 0; s < segs; ++s) {
-      if (link[s]) continue;
-      const std::size_t j = s + 1 == k ? 0 : s + 1;
-      const double delta = dir[s] - dir[j];
-      if (delta == 0.0) continue;
+    auto moved = [&](std::size_t t, double sigma) {
+      return dir[t] * std::min(sigma, stop[g.of[t]]);
+    };
+    // First σ at which x_i − x_j (value v0 now, segment s) reaches `level` from below (up) or
+    // above, given the stops known so far; kInf if it never does.
+    auto reach = [&](std::size_t s, double v0, double level, bool up) {
+      const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+      const double si = stop[g.of[i]], sj = stop[g.of[j]];
+      const double at[4] = {0.0, std::min(si, sj), std::max(si, sj), kInf};
+      double v = v0;
+      for (int p = 0; p < 3; ++p) {
+        if (!(at[p + 1] > at[p])) continue;
+        const double slope = (at[p] < si ? dir[i] : 0.0) - (at[p] < sj ? dir[j] : 0.0);
+        if (up ? slope > 0.0 : slope < 0.0) {
+          const double t = at[p] + std::max(0.0, (level - v) / slope);
+          if (t <= at[p + 1]) return t;
+        }
+        if (at[p + 1] < kInf) v += slope * (at[p + 1] - at[p]);
+      }
+      return kInf;
+    };
+    using Event = std::pair<double, std::size_t>;  // (σ, segment or segs + group)
+    std::priority_queue<Event, std::vector<Event>, std::greater<>> events;
+    auto schedule = [&](std::size_t s, double now) {
+      link_at[s] = kInf;
+      if (link[s] || fired_at[s] < kInf) return;
       const double v = pair_value(ch.x, s);
-      const double room = delta > 0.0 ? pb.hi[s] - v : pb.lo[s] - v;
-      const double step = std::max(0.0, room / delta);
-      if (step < smax) smax = step, block_link = s, block_box = k, block_ridge = false;
+      const double hi_at = reach(s, v, pb.hi[s], true), lo_at = reach(s, v, pb.lo[s], false);
+      if (hi_at < link_at[s]) link_at[s] = hi_at, link_state[s] = 1;
+      if (lo_at < link_at[s]) link_at[s] = lo_at, link_state[s] = -1;
       // Crossing the ridge α = β of a U-turn segment: stop on it.
       const auto [alpha, beta] = segment_angles(ch, ch.x, s);
-      if (s != released_ridge && ridge_capable(alpha, beta) && (alpha - beta) * delta < 0.0) {
-        const double cross_at = -(alpha - beta) / delta;
-        if (cross_at < smax) smax = cross_at, block_link = s, block_box = k, block_ridge = true;
+      if (s != released_ridge && ridge_capable(alpha, beta) && alpha != beta) {
+        const double cross_at = reach(s, alpha - beta, 0.0, alpha < beta);
+        if (cross_at < link_at[s]) link_at[s] = cross_at, link_state[s] = kRidge;
       }
+      if (link_at[s] < 1.0) link_at[s] = std::max(link_at[s], now), events.push({link_at[s], s});
+    };
+    auto halt = [&](std::size_t a, double now) {  // group a stops at σ = now
+      stop[a] = now;
+      const std::size_t f = g.first[a], last = (f + g.size[a] - 1) % k;
+      if (ch.closed || f > 0) schedule(f == 0 ? k - 1 : f - 1, now);
+      if (ch.closed || last + 1 < k) schedule(last, now);
+    };
+    for (std::size_t a = 0; a < G; ++a) {
+      if (box_at[a] < 1.0) events.push({box_at[a], segs + a});
+    }
+    for (std::size_t s = 0; s < segs; ++s) schedule(s, 0.0);
+    while (!events.empty()) {
+      const auto [now, id] = events.top();
+      events.pop();
+      if (id >= segs) {
+        const std::size_t a = id - segs;
+        if (stop[a] < kInf) continue;
+        stop_node[a] = box_node[a];
+        halt(a, now);
+        continue;
+      }
+      if (link_at[id] != now) continue;  // rescheduled since
+      fired_at[id] = now;
+      const std::size_t ga = g.of[id], gb = g.of[id + 1 == k ? 0 : id + 1];
+      if (stop[ga] == kInf) halt(ga, now);
+      if (stop[gb] == kInf) halt(gb, now);
     }
     released_ridge = segs;
     double slope = 0.0;
     for (std::size_t t = 0; t < k; ++t) slope += ev.g[t] * dir[t];
     last_slope = slope;
     bool accepted = false;
-    bool blocked = false;
-    for (double step = smax; step > 1e-14 * smax && step > 0.0; step *= 0.5) {
+    double taken = 0.0;
+    for (double step = 1.0; step > 1e-14; step *= 0.5) {
+      double predicted = 0.0;
       for (std::size_t t = 0; t < k; ++t) {
-        xn[t] = std::clamp(ch.x[t] + step * dir[t], ch.lo[t], ch.hi[t]);
+        const double dx = moved(t, step);
+        predicted += ev.g[t] * dx;
+        xn[t] = std::clamp(ch.x[t] + dx, ch.lo[t], ch.hi[t]);
       }
+      if (!(predicted < 0.0)) continue;
       const double en = evaluate(ch, m, xn, true, trial, cs);
-      if (en <= energy + 1e-4 * step * slope || (step == 1.0 && en <= energy)) {
+      if (en <= energy + 1e-4 * predicted || (step == 1.0 && en <= energy)) {
         ch.x.swap(xn);
         std::swap(ev, trial);
         apply_ridges(ch, link, ev, half_jump);
         flat = energy - en <= 1e-14 * std::abs(energy) ? flat + 1 : 0;
         energy = en;
         accepted = true;
-        blocked = step == smax && smax < 1.0;
+        taken = step;
         break;
       }
     }
-    if (smax == 0.0) blocked = true;  // already on the blocking constraint
-    if (blocked) {
-      if (block_box < k) {
-        ch.x[block_box] = dir[block_box] > 0.0 ? ch.hi[block_box] : ch.lo[block_box];
-        box[block_box] = dir[block_box] > 0.0 ? 1 : -1;
-        energy = refresh();
-      }
-      if (block_link < segs) {
-        const std::size_t j = block_link + 1 == k ? 0 : block_link + 1;
-        link[block_link] = block_ridge ? kRidge : dir[block_link] - dir[j] > 0.0 ? 1 : -1;
-        if (block_ridge) energy = refresh();
-      }
+    // What the step reached (or, without a step, what blocks it where it stands) becomes
+    // active: the boxes of groups that stopped, and the pair or ridge that ended the path.
+    bool activated = false, snapped = false;
+    for (std::size_t a = 0; a < G; ++a) {
+      const std::size_t t = stop_node[a];
+      if (t == k || stop[a] > taken) continue;
+      ch.x[t] = dir[t] > 0.0 ? ch.hi[t] : ch.lo[t];
+      box[t] = dir[t] > 0.0 ? 1 : -1;
+      activated = snapped = true;
+    }
+    for (std::size_t s = 0; s < segs; ++s) {
+      if (fired_at[s] > taken) continue;
+      link[s] = link_state[s];
+      activated = true;
+      snapped = snapped || link_state[s] == kRidge;
+    }
+    if (snapped) energy = refresh();
+    if (activated) {
+      stuck = false;
       continue;
     }
     if (!accepted) {
@@ -1425,8 +1537,8 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       make(a, (b + n - a) % n + (b == a ? n : 0) + 1, false);
     }
   }
-  std::string bad;
-  std::size_t first_bad = n;
+  std::string bad, apart;
+  std::size_t first_bad = n, first_apart = n;
   auto fail = [&](std::size_t i, const std::string& why) {
     if (first_bad == n) first_bad = i;
     if (bad.size() < 600)
@@ -1509,8 +1621,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       ch.lo[t] = -(omega - half);
       ch.hi[t] = omega - half;
       if (given) {
-        const Vec2 d = *given;
-        const double x = std::atan2(cross(ref, d), dot(ref, d));
+        const Vec2 d = *given / norm(*given);
         const double al = std::atan2(cross(en, d), dot(en, d));
         const double be = std::atan2(cross(ep, d), dot(ep, d));
         if ((has_next && std::abs(al) > omega) || (has_prev && std::abs(be) > omega)) {
@@ -1518,11 +1629,40 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
                       deg(has_next && std::abs(al) > omega ? al : be) +
                       "° with a chord, beyond Ω = " + deg(omega) + "°)");
         }
-        ch.x[t] = x;
+        // The given direction is the reference (x = 0), so that α and β are its angles with the
+        // chords, each in (−180°, 180°]: at a U-turn stencil (ψ near ±180°) the bisector's
+        // offsets put one of them a full turn out (elastic: no start on closed 3-point curves).
+        ch.ref[t] = d;
+        ch.ca[t] = has_next ? dot(en, d) : 1.0, ch.sa[t] = has_next ? cross(en, d) : 0.0;
+        ch.cb[t] = has_prev ? dot(ep, d) : 1.0, ch.sb[t] = has_prev ? cross(ep, d) : 0.0;
+        ch.a[t] = has_next ? al : 0.0;
+        ch.b[t] = has_prev ? be : 0.0;
+        ch.x[t] = 0.0;
         ch.fixed[t] = 1;
-        ch.lo[t] = ch.hi[t] = x;
+        ch.lo[t] = ch.hi[t] = 0.0;
       }
     }
+    if (basis != MinEnergyBasis::kElastic) continue;
+    // Elastic: a span between two given directions 180° or more apart has no s-curve at all.
+    for (std::size_t s = 0; s < nseg; ++s) {
+      const std::size_t j = s + 1 == k ? 0 : s + 1;
+      if (!ch.fixed[s] || !ch.fixed[j] || std::abs(ch.a[s] - ch.b[j]) < kPi * (1.0 - 1e-12)) {
+        continue;
+      }
+      if (first_apart == n) first_apart = ch.node[s];
+      if (apart.size() < 600) {
+        apart += (apart.empty() ? "" : "; ") + std::string("points ") + std::to_string(ch.node[s]) +
+                 " and " + std::to_string(ch.node[j]) + " (" + deg(ch.a[s]) + "° and " +
+                 deg(ch.b[j]) + "°)";
+      }
+    }
+  }
+  if (first_apart != n) {
+    throw Error(ErrorCode::kInfeasible,
+                "no elastic curve joins the given tangents: on a span their angles with its "
+                "chord are 180 degrees or more apart at " +
+                    apart + ". Change or remove one of the two tangents",
+                first_apart);
   }
   if (first_bad != n) {
     throw Error(ErrorCode::kInfeasible,
