@@ -429,6 +429,13 @@ inline KktResult check_min_energy(const FitInput& in, const FitResult& r,
             1e-9 * std::numbers::pi + da[s] + db[s], var_a[s], sigma, var_b[s], -sigma, s);
     }
   }
+  // An active constraint on two unknowns shares their residual (the least-squares multiplier
+  // splits an error between them), so each may carry the other's allowance.
+  for (const Column& c : columns) {
+    if (c.u == c.v) continue;
+    const double shared = std::max(noise[c.u], noise[c.v]);
+    noise[c.u] = noise[c.v] = shared;
+  }
   std::vector<double> res;
   detail::stationarity_residual(g, columns, res);
   double worst_excess = -1.0;
