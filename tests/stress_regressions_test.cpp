@@ -33,18 +33,29 @@ const std::string kDir = std::string(FAIRSPLINE_TEST_DATA_DIR) + "/stress";
 
 /// Every request in tests/data/stress (a test below checks that the directory holds no other).
 const std::vector<std::string> kInputs = {
+    "elastic-kkt-s18-c10560.json",
     "elastic-kkt-s18-c13108.json",
+    "elastic-kkt-s18-c13751.json",
+    "elastic-kkt-s18-c15349.json",
     "elastic-kkt-s18-c26699.json",
     "elastic-kkt-s18-c4322.json",
+    "elastic-kkt-s18-c6938.json",
     "elastic-kkt-s18-c76397.json",
+    "elastic-kkt-s18-c81331.json",
     "elastic-not_converged-s18-c10414.json",
+    "elastic-not_converged-s18-c12567.json",
     "elastic-not_converged-s18-c15088.json",
     "elastic-not_converged-s18-c1595.json",
     "elastic-not_converged-s18-c2424.json",
     "elastic-not_converged-s18-c3029.json",
     "elastic-not_converged-s18-c3820.json",
     "elastic-not_converged-s18-c4274.json",
+    "elastic-not_converged-s18-c65344.json",
     "elastic-not_converged-s18-c713.json",
+    "elastic-not_converged-s18-c75190.json",
+    "elastic-not_converged-s18-c75947.json",
+    "elastic-not_converged-s18-c9207.json",
+    "elastic-not_converged-s18-c93386.json",
     "elastic-ok-s18-c1730.json",
     "elastic-ok-s18-c982.json",
     "jaklic-zagar-kkt-s18-c455135.json",
@@ -91,6 +102,9 @@ const std::set<std::string> kOpen = {
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),
 /// with the code the method must raise for them.
 const std::map<std::string, ErrorCode> kRefused = {
+    // elastic: a free point between two given tangents that leave it no direction with both
+    // its spans' end directions less than 180° apart (docs/methods/elastic.md).
+    {"elastic-not_converged-s18-c75190.json", ErrorCode::kInfeasible},
     // Points collinear to within rounding (docs/hardening.md).
     {"kozak-krajnc-internal-non_finite-s18-c771484.json", ErrorCode::kInvalidArgument},
     {"kozak-krajnc-internal-non_finite-s18-c945473.json", ErrorCode::kInvalidArgument},

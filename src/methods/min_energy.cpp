@@ -655,6 +655,13 @@ bool solve_windows(Chain& ch, const MinEnergyOptions& opt, double gscale,
   return true;
 }
 
+/// The largest residual (relative to the gradient's scale) the elastic basis reports as optimal
+/// to double precision when Newton steps no longer change the energy (docs/methods/elastic.md).
+constexpr double kElasticPrecision = 1e-6;
+/// A Newton step this small (radians) that no longer lowers the energy leaves the directions
+/// optimal to double precision whatever the residual (docs/methods/elastic.md, "Precision").
+constexpr double kStepPrecision = 1e-9;
+
 ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const BasicCurveMethod& m = opt.method;
   const std::size_t k = ch.node.size();
@@ -717,11 +724,20 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   };
   std::vector<double> residual;
   bool windows_last = false;
+  // Elastic bases: consecutive full steps whose predicted decrease was within the rounding of
+  // the total energy. Three, with the residual below kElasticPrecision, is the optimum to double
+  // precision: a walk whose chords spanned 10^3.4 (energy 9e9, ulp 2e-6) crept on at projected
+  // gradient 1.6e-10 for 2000 iterations, each lowering the energy by about one ulp.
+  int flat = 0;
   for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
     const double pg = projected_gradient(ch, ev.g, gscale, res.worst);
     res.pg = pg;
     if (pg <= tol) {
       res.converged = true;
+      return res;
+    }
+    if (flat >= 3 && pg <= kElasticPrecision) {
+      res.at_precision = true;
       return res;
     }
     if (res.iterations == opt.max_iterations) break;
@@ -733,6 +749,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       }
       if (solve_windows(ch, opt, gscale, residual)) {
         windows_last = true;
+        flat = 0;
         ++res.window_passes;
         energy = evaluate(ch, m, ch.x, true, ev, cs);
         continue;
@@ -795,6 +812,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
           last_dir.assign(dir.begin(), dir.end());
         }
         ch.x.swap(xn);
+        flat = psd_first && step == 1.0 && -decrease <= rounding_scale ? flat + 1 : 0;
         if (step == 1.0) {
           std::swap(ev, trial);
           energy = en;
@@ -966,10 +984,6 @@ constexpr signed char kRidge = 2;
 /// How far a released ridge's start direction is moved off it (radians).
 constexpr double kRidgeStep = 1e-7;
 
-/// The largest residual (relative to the gradient's scale) the elastic basis reports as optimal
-/// to double precision when Newton steps no longer change the energy (docs/methods/elastic.md).
-constexpr double kElasticPrecision = 1e-6;
-
 /// Replaces the contributions of locked ridge segments by the symmetric (mean) gradient and
 /// Hessian at α = β (elastica_energy's value on the diagonal); returns per segment the half
 /// width c of the subgradient across the ridge (∂E/∂(α − β) jumps from −c to c), 0 elsewhere.
@@ -989,9 +1003,16 @@ void apply_ridges(const Chain& ch, std::span<const signed char> link, Evaluation
     ev.d[s] += w * (on.eaa - now.eaa);
     ev.d[j] += w * (on.ebb - now.ebb);
     ev.e[s] += w * (on.eab - now.eab);
-    constexpr double kSide = 1e-7;
-    const detail::ElasticaEnergy off = detail::elastica_energy(mid + kSide, mid - kSide);
-    half_jump[s] = w * 0.5 * ((off.ea - off.eb) - (on.ea - on.eb));
+    // The side's derivative at the ridge: off it by δ the derivatives differ from their limit
+    // like √δ (E has a |α − β|^{3/2} term), so the values at δ and 2δ are extrapolated in √δ.
+    // (The plain value at δ = 1e-7 was 2e-4 of it short: a ridge held at its limit was
+    // released, and a stress walk stopped 1.6e-4 from KKT.)
+    constexpr double kSide = 1e-8;
+    const detail::ElasticaEnergy near = detail::elastica_energy(mid + kSide, mid - kSide);
+    const detail::ElasticaEnergy far = detail::elastica_energy(mid + 2 * kSide, mid - 2 * kSide);
+    const double side = (std::numbers::sqrt2 * (near.ea - near.eb) - (far.ea - far.eb)) /
+                        (std::numbers::sqrt2 - 1.0);
+    half_jump[s] = w * 0.5 * (side - (on.ea - on.eb));
   }
 }
 
@@ -1027,6 +1048,17 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   std::vector<double> half_jump;
   // A free segment exactly on a ridge (at the start, or when both its nodes' boxes held it there
   // and one is released) is locked on it: its derivatives there are the kink's, not a side's.
+  // Moves node t by `by` if that keeps its box and the pair constraints of its two spans.
+  auto nudge = [&](std::size_t t, double by) {
+    const double x = ch.x[t] + by;
+    if (x < ch.lo[t] || x > ch.hi[t] || ch.fixed[t]) return false;
+    const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
+    const std::size_t next = t + 1 == k ? 0 : t + 1, prev = t == 0 ? k - 1 : t - 1;
+    if (has_next && (x - ch.x[next] < pb.lo[t] || x - ch.x[next] > pb.hi[t])) return false;
+    if (has_prev && (ch.x[prev] - x < pb.lo[prev] || ch.x[prev] - x > pb.hi[prev])) return false;
+    ch.x[t] = x;
+    return true;
+  };
   auto lock_ridges = [&] {
     for (std::size_t s = 0; s < segs; ++s) {
       const auto [alpha, beta] = segment_angles(ch, ch.x, s);
@@ -1044,11 +1076,12 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   ChainResult res;
   int flat = 0;        // consecutive Newton steps that changed the energy by rounding only
   bool stuck = false;  // the last Newton direction had no step that lowered the energy
-  std::size_t released_ridge = segs;
+  std::vector<char> released(segs, 0);  // ridges released since the last step
   // A ridge released and locked again without the energy going down is kept: the estimate of
   // its subgradient (a difference of one-sided gradients) is then not sharp enough to decide.
   std::vector<int> ridge_releases(segs, 0);
   double last_slope = 0.0;
+  double last_step = std::numeric_limits<double>::infinity();  // largest |Newton step| (rad)
   if (!std::isfinite(energy)) {  // no feasible start (reported by the caller)
     res.no_start = true;
     for (std::size_t s = 0; s < segs; ++s) {
@@ -1091,15 +1124,20 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     // The elastic energy's derivatives come from root-finds: when Newton steps stop changing
     // the energy (the decrease they predict, −g·d/2, below its rounding) or no step lowers it,
     // with the residual below kElasticPrecision, the face is stationary to what double
-    // precision allows here.
-    const bool stalled = residual <= kElasticPrecision &&
-                         (stuck || (flat >= 3 && -0.5 * last_slope <= 1e-13 * std::abs(energy)));
+    // precision allows here; also at any residual when no step lowers the energy and the
+    // Newton step itself is below kStepPrecision. (Steps that change the energy by rounding
+    // only are still taken: near |α − β| = 180°, where E_1 goes like Θ^{3/2}, the residual
+    // fell from 4e-5 to 1e-10 that way.)
+    const bool stalled =
+        (residual <= kElasticPrecision &&
+         (stuck || (flat >= 3 && -0.5 * last_slope <= 1e-13 * std::abs(energy)))) ||
+        (stuck && last_step <= kStepPrecision);
     // Multipliers once stationary on the face: the worst sign violation is released. Also when
     // stationary only to precision: a face whose reduced gradient stalls above tol is still
     // the wrong face when a multiplier has the wrong sign (issue 18: closed 3–4-point curves
     // stopped on |α − β| = 180° with the energy going down off it). A wrong sign within the
     // residual itself is not resolved by the derivatives.
-    double worst = 0.0, worst_force = 0.0;
+    double worst = 0.0;
     std::size_t worst_box = k, worst_link = segs;
     // Per group, its worst wrong-signed box or (non-ridge) link: released together, one per
     // group, when no ridge is the worst (one release per stationary point took a global
@@ -1109,6 +1147,12 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     auto note = [&](std::size_t a, double v, std::size_t t, std::size_t s) {
       if (v > group_worst[a]) group_worst[a] = v, group_box[a] = t, group_link[a] = s;
     };
+    struct RidgeForce {
+      double violation;  ///< |force| beyond the half-jump, relative
+      std::size_t s;
+      double force;
+    };
+    std::vector<RidgeForce> ridge_forces;
     if (residual <= tol || stalled) {
       group_worst.assign(G, 0.0);
       group_box.assign(G, k);
@@ -1149,11 +1193,9 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
           const double v = link[s] == kRidge ? std::abs(force) - half_jump[s]
                            : link[s] > 0     ? force
                                              : -force;
-          if (v / gscale > worst) {
-            worst = v / gscale, worst_link = s, worst_box = k;
-            worst_force = force;
-          }
+          if (v / gscale > worst) worst = v / gscale, worst_link = s, worst_box = k;
           if (link[s] != kRidge) note(a, v / gscale, k, s);
+          if (link[s] == kRidge) ridge_forces.push_back({v / gscale, s, force});
         }
         if (bound_nodes[a] < 2) continue;
         // Between two bound nodes the multipliers are not unique: KKT holds when some choice
@@ -1199,30 +1241,30 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       }
       stuck = false;
       flat = 0;
-      if (worst_box < k) box[worst_box] = 0;
-      if (worst_link == segs || link[worst_link] != kRidge) {
-        const double floor_v = std::max(tol, residual);
-        for (std::size_t a = 0; a < G; ++a) {
-          if (!(group_worst[a] > floor_v)) continue;
-          if (group_box[a] < k) box[group_box[a]] = 0;
-          if (group_link[a] < segs) link[group_link[a]] = 0;
-        }
+      // Released together: in every group its worst wrong-signed box or link, and every ridge
+      // whose force exceeds its kink's half-jump. (One ridge per stationary point cost a Newton
+      // re-solve each: 800–1900-point sharp walks with dozens of ridges to leave stopped at the
+      // 200-iteration cap; all at once, 64–100 iterations.)
+      const double floor_v = std::max(tol, residual);
+      for (std::size_t a = 0; a < G; ++a) {
+        if (!(group_worst[a] > floor_v)) continue;
+        if (group_box[a] < k) box[group_box[a]] = 0;
+        if (group_link[a] < segs) link[group_link[a]] = 0;
       }
-      if (worst_link < segs) {
-        // A released ridge may be crossed by the next step: the force says the optimum lies
-        // beyond it, on the side the iterate (up to rounding) may not be on yet.
-        if (link[worst_link] == kRidge) {
-          released_ridge = worst_link;
-          ++ridge_releases[worst_link];
-          // Step off the ridge to the side where the energy goes down (first order: the force
-          // beyond the kink's half-jump), so that the next derivatives are that side's.
-          // (Its end node when the start node is held at its box.)
-          const std::size_t t = worst_link, j = t + 1 == k ? 0 : t + 1;
-          const double off = std::copysign(kRidgeStep, worst_force), was = ch.x[t];
-          ch.x[t] = std::clamp(was - off, ch.lo[t], ch.hi[t]);
-          if (ch.x[t] == was) ch.x[j] = std::clamp(ch.x[j] + off, ch.lo[j], ch.hi[j]);
-        }
-        link[worst_link] = 0;
+      for (const RidgeForce& r : ridge_forces) {
+        if (!(r.violation > floor_v) || link[r.s] != kRidge) continue;
+        // A released ridge may be crossed by the next step (the force says the optimum lies
+        // beyond it): it is stepped off to the side where the energy goes down (first order:
+        // the force beyond the half-jump), so that the next derivatives are that side's; by its
+        // end node when its start node is held at its box.
+        // (Only where the move keeps its box and the pair constraints of both its spans: a
+        // neighbouring span on |α − β| = 180° went beyond it, to an infinite energy.)
+        released[r.s] = 1;
+        ++ridge_releases[r.s];
+        const std::size_t t = r.s, j = t + 1 == k ? 0 : t + 1;
+        const double off = std::copysign(kRidgeStep, r.force);
+        if (!nudge(t, -off)) (void)nudge(j, off);
+        link[r.s] = 0;
       }
       lock_ridges();
       energy = refresh();
@@ -1303,7 +1345,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       if (lo_at < link_at[s]) link_at[s] = lo_at, link_state[s] = -1;
       // Crossing the ridge α = β of a U-turn segment: stop on it.
       const auto [alpha, beta] = segment_angles(ch, ch.x, s);
-      if (s != released_ridge && ridge_capable(alpha, beta) && alpha != beta) {
+      if (!released[s] && ridge_capable(alpha, beta) && alpha != beta) {
         const double cross_at = reach(s, alpha - beta, 0.0, alpha < beta);
         if (cross_at < link_at[s]) link_at[s] = cross_at, link_state[s] = kRidge;
       }
@@ -1335,10 +1377,12 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       if (stop[ga] == kInf) halt(ga, now);
       if (stop[gb] == kInf) halt(gb, now);
     }
-    released_ridge = segs;
+    std::fill(released.begin(), released.end(), 0);
     double slope = 0.0;
     for (std::size_t t = 0; t < k; ++t) slope += ev.g[t] * dir[t];
     last_slope = slope;
+    last_step = 0.0;
+    for (std::size_t t = 0; t < k; ++t) last_step = std::max(last_step, std::abs(dir[t]));
     bool accepted = false;
     double taken = 0.0;
     for (double step = 1.0; step > 1e-14; step *= 0.5) {
@@ -1350,7 +1394,12 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       }
       if (!(predicted < 0.0)) continue;
       const double en = evaluate(ch, m, xn, true, trial, cs);
-      if (en <= energy + 1e-4 * predicted || (step == 1.0 && en <= energy)) {
+      // A full step whose predicted decrease is within the energy's rounding is judged by
+      // that rounding (as in optimize): else a gradient of 1e-6 on a stiff node, whose Newton
+      // step lowers the energy by 1e-17 of it, stays unresolved.
+      const double rounding = 1e-12 * std::abs(energy) * std::sqrt(static_cast<double>(k));
+      const bool within = step == 1.0 && -predicted <= rounding && en <= energy + rounding;
+      if (en <= energy + 1e-4 * predicted || (step == 1.0 && en <= energy) || within) {
         ch.x.swap(xn);
         std::swap(ev, trial);
         apply_ridges(ch, link, ev, half_jump);
@@ -1361,18 +1410,21 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
         break;
       }
     }
-    // What the step reached (or, without a step, what blocks it where it stands) becomes
-    // active: the boxes of groups that stopped, and the pair or ridge that ended the path.
+    // What the step reached becomes active: the boxes of groups that stopped, and the pairs and
+    // ridges that stopped them. Without a step, what the path meets within 1e-9 (a node a
+    // rounding error off its bound, whose direction points out of it: no step along the path
+    // changes the energy by more than its rounding, and the face must change to go on).
+    const double reached = accepted ? taken : 1e-9;
     bool activated = false, snapped = false;
     for (std::size_t a = 0; a < G; ++a) {
       const std::size_t t = stop_node[a];
-      if (t == k || stop[a] > taken) continue;
+      if (t == k || stop[a] > reached) continue;
       ch.x[t] = dir[t] > 0.0 ? ch.hi[t] : ch.lo[t];
       box[t] = dir[t] > 0.0 ? 1 : -1;
       activated = snapped = true;
     }
     for (std::size_t s = 0; s < segs; ++s) {
-      if (fired_at[s] > taken) continue;
+      if (fired_at[s] > reached) continue;
       link[s] = link_state[s];
       activated = true;
       snapped = snapped || link_state[s] == kRidge;
@@ -1643,25 +1695,48 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       }
     }
     if (basis != MinEnergyBasis::kElastic) continue;
-    // Elastic: a span between two given directions 180° or more apart has no s-curve at all.
-    for (std::size_t s = 0; s < nseg; ++s) {
-      const std::size_t j = s + 1 == k ? 0 : s + 1;
-      if (!ch.fixed[s] || !ch.fixed[j] || std::abs(ch.a[s] - ch.b[j]) < kPi * (1.0 - 1e-12)) {
-        continue;
-      }
-      if (first_apart == n) first_apart = ch.node[s];
-      if (apart.size() < 600) {
-        apart += (apart.empty() ? "" : "; ") + std::string("points ") + std::to_string(ch.node[s]) +
-                 " and " + std::to_string(ch.node[j]) + " (" + deg(ch.a[s]) + "° and " +
-                 deg(ch.b[j]) + "°)";
+    // Elastic: each span's end directions must be less than 180° apart. From each given
+    // direction the directions this allows are carried along the chain as an interval, to the
+    // next given one (or the open end): an empty interval, or a given direction outside it,
+    // means no s-curve joins them (two given tangents on one span, or a free point squeezed
+    // between two: a closed 3-point curve had "no start").
+    const PairBounds pb = pair_bounds(ch, kPi * (1.0 - 1e-12));
+    for (std::size_t f = 0; f < k; ++f) {
+      if (!ch.fixed[f]) continue;
+      double lo = ch.x[f], hi = ch.x[f];
+      for (std::size_t prev = f, step = 0; step < k; ++step) {
+        if (!ch.closed && prev + 1 == k) break;
+        const std::size_t t = prev + 1 == k ? 0 : prev + 1;
+        lo = std::max(ch.lo[t], lo - pb.hi[prev]);  // lo <= x_prev − x_t <= hi
+        hi = std::min(ch.hi[t], hi - pb.lo[prev]);
+        const bool ok = ch.fixed[t] ? lo <= ch.x[t] && ch.x[t] <= hi : lo <= hi;
+        if (!ok) {
+          if (first_apart == n) first_apart = ch.node[f];
+          if (apart.size() < 600) {
+            apart +=
+                (apart.empty() ? "" : "; ") +
+                (step == 0 ? "points " + std::to_string(ch.node[f]) + " and " +
+                                 std::to_string(ch.node[t]) + " (" + deg(ch.a[f]) + "° and " +
+                                 deg(ch.b[t]) + "° with the span's chord)"
+                           : "points " + std::to_string(ch.node[f]) + " to " +
+                                 std::to_string(ch.node[t]) +
+                                 (ch.fixed[t] ? " (the given direction at point " +
+                                                    std::to_string(ch.node[t]) + " is out of reach)"
+                                              : " (no direction at point " +
+                                                    std::to_string(ch.node[t]) + " is left)"));
+          }
+          break;
+        }
+        if (ch.fixed[t]) break;
+        prev = t;
       }
     }
   }
   if (first_apart != n) {
     throw Error(ErrorCode::kInfeasible,
-                "no elastic curve joins the given tangents: on a span their angles with its "
-                "chord are 180 degrees or more apart at " +
-                    apart + ". Change or remove one of the two tangents",
+                "no elastic curve joins the given tangents: every piece needs its end "
+                "directions less than 180 degrees apart, and the given tangents leave none at " +
+                    apart + ". Change or remove one of the tangents",
                 first_apart);
   }
   if (first_bad != n) {
@@ -1697,6 +1772,12 @@ std::vector<CubicBezier> elastic_span(Point p0, Point p1, double alpha, double b
           .length = arc.length(),
           .beziers = 0};
   std::vector<CubicBezier> pieces = detail::elastica_to_beziers(arc, std::max(accuracy, 1e-12));
+  // A piece that rounded to a point (all four control points equal: a U-turn between points
+  // 5e-10 apart) is dropped: it has no direction to read, and the others meet without it.
+  auto point = [](const CubicBezier& b) {
+    return b.p[0] == b.p[1] && b.p[1] == b.p[2] && b.p[2] == b.p[3];
+  };
+  if (!std::all_of(pieces.begin(), pieces.end(), point)) std::erase_if(pieces, point);
   span.beziers = static_cast<int>(pieces.size());
   return pieces;
 }
@@ -1707,19 +1788,31 @@ void assemble_spans(const std::vector<std::vector<CubicBezier>>& pieces, FitResu
   out.spline.segments.clear();
   for (std::size_t s = 0; s < pieces.size(); ++s) {
     const double t0 = out.knots[s], t1 = out.knots[s + 1];
+    const std::vector<CubicBezier>& span = pieces[s];
     double total = 0.0;
-    std::vector<double> len(pieces[s].size());
-    for (std::size_t q = 0; q < pieces[s].size(); ++q) {
-      const CubicBezier& b = pieces[s][q];
+    std::vector<double> len(span.size());
+    for (std::size_t q = 0; q < span.size(); ++q) {
+      const CubicBezier& b = span[q];
       len[q] = distance(b.p[0], b.p[1]) + distance(b.p[1], b.p[2]) + distance(b.p[2], b.p[3]);
       total += len[q];
     }
+    // Breakpoints; a piece a rounding error long (an elastica's first cubic can be 1e-12 of
+    // the span) still gets a non-empty interval, at least one ulp, on a span between
+    // near-repeated points too.
+    const std::size_t np = span.size();
+    std::vector<double> at(np + 1);
+    at[0] = t0;
+    at[np] = t1;
     double acc = 0.0;
-    for (std::size_t q = 0; q < pieces[s].size(); ++q) {
-      const double a = t0 + (t1 - t0) * (acc / total);
-      acc += len[q];
-      const double b = q + 1 == pieces[s].size() ? t1 : t0 + (t1 - t0) * (acc / total);
-      out.spline.segments.push_back({pieces[s][q], a, b, s});
+    for (std::size_t q = 1; q < np; ++q) {
+      acc += len[q - 1];
+      at[q] = std::max(t0 + (t1 - t0) * (acc / total), std::nextafter(at[q - 1], t1));
+    }
+    for (std::size_t q = np - 1; q > 0 && !(at[q] < at[q + 1]); --q) {
+      at[q] = std::nextafter(at[q + 1], t0);
+    }
+    for (std::size_t q = 0; q < np; ++q) {
+      out.spline.segments.push_back({span[q], at[q], at[q + 1], s});
     }
   }
 }

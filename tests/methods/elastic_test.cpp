@@ -285,6 +285,42 @@ TEST(ElasticSpline, NodeKindsClampedEndsAndClosedCurves) {
   EXPECT_NEAR(ok.method_report.at("spans")[0].at("alpha_deg").get<double>(), 120.0, 1e-9);
 }
 
+TEST(ElasticSpline, GivenTangentsAtUTurnStencils) {
+  // A closed, nearly collinear 3-point curve with a start tangent: at points 0 and 2 the chords
+  // turn back (stencils near 180°), and the given direction's angle with the closing chord is
+  // 124.6°, not the 235.4° the chords' bisector as reference made of it (then no start).
+  FitInput in = input_of({{0.0, 0.0},
+                          {119.99789976705753, -177.55587439424795},
+                          {340.9193256852905, -504.4440701666913}},
+                         true);
+  in.start_tangent = Vec2{-0.36334903965634335, -0.9316530874637903};
+  const FitResult r = fit("elastic", in, {}, ReportLevel::kBasic);
+  EXPECT_NE(r.solver->status, SolverStatus::kIterationLimit);
+  EXPECT_LT(norm(r.tangents[0] - normalized(*in.start_tangent)), 1e-12);
+  const auto& closing = r.method_report.at("spans")[2];
+  EXPECT_NEAR(closing.at("beta_deg").get<double>(),
+              angle(in.points[0] - in.points[2], *in.start_tangent) / kDeg, 1e-9);
+  // Two given tangents whose angles with their span are 180° or more apart: no s-curve.
+  FitInput apart = input_of({{0, 0}, {1, 0}, {2, 0.3}});
+  apart.kinds = {PointKind::kClamped, PointKind::kClamped, PointKind::kSmooth};
+  apart.tangents = {Vec2{-0.17, 0.98}, Vec2{-0.17, -0.98}, std::nullopt};
+  const Error e = expect_error(ErrorCode::kInfeasible, [&] { (void)fit("elastic", apart); },
+                               {"points 0 and 1", "99.84", "-99.84"});
+  EXPECT_EQ(e.index(), 0u);
+}
+
+TEST(ElasticSpline, ConstraintsMetOnTheWayBecomeActiveTogether) {
+  // A long sharp walk ends with over a hundred spans on |α − β| = 180°. A step that stopped at
+  // the first constraint on its way made one iteration per constraint that became active (a
+  // 10⁴-point walk reached the 200-iteration cap); each group now stops at its own, and every
+  // constraint met becomes active in the same step.
+  const FitResult r = fit("elastic", input_of(random_walk(3000, 7, 150)), {}, ReportLevel::kBasic);
+  EXPECT_NE(r.solver->status, SolverStatus::kIterationLimit);
+  const std::size_t on_bound = r.method_report.at("active_spans").size();
+  EXPECT_GT(on_bound, 100u);
+  EXPECT_LT(static_cast<std::size_t>(r.solver->iterations), on_bound);
+}
+
 TEST(ElasticSpline, OptionsAndErrors) {
   const FitInput in = input_of(random_walk(6, 2, 60));
   expect_error(ErrorCode::kBadOption,

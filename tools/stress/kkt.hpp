@@ -199,15 +199,18 @@ inline void stationarity_residual(const std::vector<double>& g, const std::vecto
 /// the diagonal point nearest (a, b): `above` on the side α > β, `below` on α < β.
 inline void ridge_gradients(const BasicCurveMethod& m, double a, double b, double above[2],
                             double below[2]) {
-  const double c = 0.5 * (a + b), h = 1e-5;
-  auto f = [&](double da, double db) { return basic_energy(m, c + da, c + db).e; };
-  const double f0 = f(0, 0);
-  // Second-order one-sided differences, each on its own side of the ridge.
-  auto fwd = [&](double f1, double f2) { return (-3.0 * f0 + 4.0 * f1 - f2) / (2.0 * h); };
-  const double a_fwd = fwd(f(h, 0), f(2 * h, 0)), a_bwd = -fwd(f(-h, 0), f(-2 * h, 0));
-  const double b_fwd = fwd(f(0, h), f(0, 2 * h)), b_bwd = -fwd(f(0, -h), f(0, -2 * h));
-  above[0] = a_fwd, above[1] = b_bwd;
-  below[0] = a_bwd, below[1] = b_fwd;
+  // Each side's analytic partials at δ and 2δ off the ridge, extrapolated to δ = 0: off it by δ
+  // they differ from their limit like √δ (E has a |α − β|^{3/2} term), which second-order
+  // differences of the energy at 1e-5 missed by 1e-3 of the jump.
+  const double c = 0.5 * (a + b), h = 1e-8, r2 = std::numbers::sqrt2;
+  auto limit = [&](double sign, double out[2]) {
+    const BasicEnergy e1 = basic_energy(m, c + sign * h, c - sign * h);
+    const BasicEnergy e2 = basic_energy(m, c + 2 * sign * h, c - 2 * sign * h);
+    out[0] = (r2 * e1.ea - e2.ea) / (r2 - 1.0);
+    out[1] = (r2 * e1.eb - e2.eb) / (r2 - 1.0);
+  };
+  limit(1.0, above);
+  limit(-1.0, below);
 }
 
 /// True when (a, b) sits on that ridge (within the solver's rounding).
