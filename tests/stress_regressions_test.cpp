@@ -64,6 +64,7 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s18-c10785.json",
     "kozak-krajnc-not_converged-s18-c131.json",
     "kozak-krajnc-not_converged-s18-c18.json",
+    "kozak-krajnc-not_converged-s18-c19147.json",
     "kozak-krajnc-not_converged-s18-c221.json",
     "kozak-krajnc-not_converged-s18-m60-c10026.json",
     "kozak-krajnc-not_converged-s18-m60-c10362.json",

@@ -559,6 +559,9 @@ bool admissible(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3) {
 
 /// The G2 Newton stops when every scaled curvature jump (1.4) is below this.
 constexpr double kG2Tolerance = 1e-10;
+/// The largest scaled jump accepted, as optimal to double precision, at a sign change of the
+/// jump between two adjacent doubles of ξ (docs/methods/kozak-krajnc.md, "g2=true").
+constexpr double kG2Resolved = 1e-6;
 /// Step of the finite-difference Jacobian of (1.4) in ξ.
 constexpr double kG2JacobianStep = 1e-7;
 
@@ -566,6 +569,9 @@ constexpr double kG2JacobianStep = 1e-7;
 struct G2Report {
   bool converged = false;
   bool at_cap = false;  ///< stopped by the iteration limit (else: by `reason`)
+  /// Not converged, but the jump changes sign between two adjacent doubles of ξ and is within
+  /// kG2Resolved there: the tolerance is below what double precision resolves (not an error).
+  bool at_precision = false;
   int iterations = 0;
   double residual = 0.0;
   std::string reason;
@@ -716,6 +722,7 @@ struct KozakKrajncReport {
   };
   struct G2 {
     bool converged = false;
+    bool at_precision = false;  ///< optimal to double precision (kG2Resolved)
     int iterations = 0;
     double residual = 0;
     std::string reason, start;
@@ -795,6 +802,9 @@ nlohmann::json report_json(const KozakKrajncReport& r) {
   }
   if (r.g2) {
     j["g2"] = {{"converged", r.g2->converged},
+               {"status", r.g2->converged      ? "converged"
+                          : r.g2->at_precision ? "conditioning_limit"
+                                               : "not_converged"},
                {"iterations", r.g2->iterations},
                {"max_scaled_curvature_jump", r.g2->residual},
                {"reason", r.g2->reason},
@@ -1106,7 +1116,7 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
             const double jl = jump(l1, l2), jr = jump(r1, r2);
             if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) continue;
             double lo = xl, hi = x, jlo = jl;
-            for (int it = 0; it < 80 && hi - lo > 1e-15; ++it) {
+            for (int it = 0; it < 80 && std::nextafter(lo, hi) < hi; ++it) {
               const double mid = 0.5 * (lo + hi);
               PieceFit m1, m2;
               if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
@@ -1122,6 +1132,18 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
             const G2Report rep = solve_g2(g, xi, pinned, max_iterations, fit);
             if (rep.converged) {
               out.found = true, out.xi = xi, out.pieces = std::move(fit), out.rep = rep;
+              return true;
+            }
+            // The sign change between two adjacent doubles of ξ with a small jump: a root that
+            // double precision cannot resolve to the tolerance (a 5-point request: 8e-9 and
+            // −4e-9 on either side of one ulp). Larger values there are a discontinuity.
+            if (std::nextafter(lo, hi) >= hi && std::abs(jlo) <= kG2Resolved) {
+              out.found = true, out.xi = {xi0, lo, xi2}, out.pieces = {PieceFit{}, l1, l2};
+              out.rep = G2Report{.converged = false,
+                                 .at_precision = true,
+                                 .iterations = rep.iterations,
+                                 .residual = std::abs(jlo),
+                                 .reason = "the jump changes sign between adjacent doubles of ξ"};
               return true;
             }
           }
@@ -1288,7 +1310,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                   3);
     }
   }
-  if (!o.rep.converged && !options.best_effort) {
+  if (!o.rep.converged && !o.rep.at_precision && !options.best_effort) {
     throw Error(ErrorCode::kNotConverged,
                 "kozak-krajnc: the G2 Newton iteration on (1.4) stopped after " +
                     std::to_string(o.rep.iterations) + " iterations with scaled curvature jump " +
@@ -1404,6 +1426,7 @@ KozakKrajncReport describe_fit(const Prepared& p, const Directions& d,
   }
   if (g2) {
     r.g2 = KozakKrajncReport::G2{.converged = g2->rep.converged,
+                                 .at_precision = g2->rep.at_precision,
                                  .iterations = g2->rep.iterations,
                                  .residual = g2->rep.residual,
                                  .reason = g2->rep.reason,
@@ -1427,9 +1450,10 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   // Kept as it was: with level none the solver status is not set.
   if (g2 && level != ReportLevel::kNone) {
     const G2Report& rep = g2->rep;
-    out.solver = SolverReport{.status = rep.converged ? SolverStatus::kConverged
-                                        : rep.at_cap  ? SolverStatus::kIterationLimit
-                                                      : SolverStatus::kStalled,
+    out.solver = SolverReport{.status = rep.converged      ? SolverStatus::kConverged
+                                        : rep.at_precision ? SolverStatus::kConditioningLimit
+                                        : rep.at_cap       ? SolverStatus::kIterationLimit
+                                                           : SolverStatus::kStalled,
                               .iterations = rep.iterations,
                               .residual = rep.residual,
                               .tolerance = kG2Tolerance};

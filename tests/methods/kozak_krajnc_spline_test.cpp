@@ -389,6 +389,34 @@ TEST(KozakKrajncSpline, G2NewtonRemovesTheCurvatureJumps) {
   }
 }
 
+TEST(KozakKrajncSpline, G2RootBeyondDoublePrecisionIsAConditioningLimit) {
+  // Two pieces and a near-repeated pair (T3, T4): the scaled jump at T3 changes sign between
+  // two adjacent doubles of ξ1, from 8e-9 to −4e-9, so 1e-10 cannot be met. The curve comes
+  // back with status conditioning_limit instead of an error (issue 18, stress case c19147).
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {270.70865618691096, -620.2183919110814},
+               {989.3641611928101, -1153.3384024894929},
+               {1439.6006218291102, -1200.9159884410951},
+               {1439.600956585169, -1200.9164482550611},
+               {1469.5596186967953, -1269.057134533418},
+               {2744.769342556417, -1329.571348811363},
+               {2794.9098066403435, -1257.1088945231702}};
+  const FitResult r = fit("kozak-krajnc", in, {{"g2", true}, {"remainder", "hermite"}});
+  const auto& rep = r.method_report.at("g2");
+  EXPECT_EQ(rep.at("status"), "conditioning_limit") << rep.dump();
+  EXPECT_FALSE(rep.at("converged").get<bool>());
+  EXPECT_LE(rep.at("max_scaled_curvature_jump").get<double>(), 1e-6);
+  ASSERT_TRUE(r.solver.has_value());
+  EXPECT_EQ(r.solver->status, SolverStatus::kConditioningLimit);
+  // The jump itself, from the Béziers: within the same bound, scaled by the mean chord.
+  const double kl = r.spline.segments[2].bezier.curvature(1.0);
+  const double kr = r.spline.segments[3].bezier.curvature(0.0);
+  const double chord =
+      0.5 * (norm(in.points[3] - in.points[2]) + norm(in.points[4] - in.points[3]));
+  EXPECT_LE(std::abs(kl - kr) * chord, 1e-6);
+}
+
 TEST(KozakKrajncSpline, GammaAndTangentOptions) {
   const auto E = testing::ellipse(12, 3, 1);
   FitInput in;
