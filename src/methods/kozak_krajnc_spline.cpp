@@ -1115,7 +1115,7 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
             if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
             const double jl = jump(l1, l2), jr = jump(r1, r2);
             if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) continue;
-            double lo = xl, hi = x, jlo = jl;
+            double lo = xl, hi = x, jlo = jl, jhi = jr;
             for (int it = 0; it < 80 && std::nextafter(lo, hi) < hi; ++it) {
               const double mid = 0.5 * (lo + hi);
               PieceFit m1, m2;
@@ -1124,7 +1124,7 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
               if ((jm > 0) == (jlo > 0)) {
                 lo = mid, jlo = jm, l1 = m1, l2 = m2;
               } else {
-                hi = mid;
+                hi = mid, jhi = jm;
               }
             }
             std::vector<double> xi = {xi0, lo, xi2};
@@ -1136,8 +1136,9 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
             }
             // The sign change between two adjacent doubles of ξ with a small jump: a root that
             // double precision cannot resolve to the tolerance (a 5-point request: 8e-9 and
-            // −4e-9 on either side of one ulp). Larger values there are a discontinuity.
-            if (std::nextafter(lo, hi) >= hi && std::abs(jlo) <= kG2Resolved) {
+            // −4e-9 on either side of one ulp). A larger value on either side is a discontinuity.
+            if (std::nextafter(lo, hi) >= hi && std::abs(jlo) <= kG2Resolved &&
+                std::abs(jhi) <= kG2Resolved) {
               out.found = true, out.xi = {xi0, lo, xi2}, out.pieces = {PieceFit{}, l1, l2};
               out.rep = G2Report{.converged = false,
                                  .at_precision = true,
