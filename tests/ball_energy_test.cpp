@@ -48,8 +48,8 @@ TEST(SpanDerivatives, MatchFiniteDifferencesForEveryBasis) {
       const double phi = std::atan2(c.y, c.x);
       const std::array<double, 4> z = {phi + angle(rng), phi + angle(rng), c.x, c.y};
       if (std::abs(z[0] - z[1]) > 0.9 * kPi) continue;  // elastic: |α − β| < 180°
-      SCOPED_TRACE(testing::Message() << "alpha " << z[0] - phi << " beta " << z[1] - phi
-                                      << " c " << c.x << ", " << c.y);
+      SCOPED_TRACE(testing::Message() << "alpha " << z[0] - phi << " beta " << z[1] - phi << " c "
+                                      << c.x << ", " << c.y);
       const detail::SpanDerivatives d = derivatives_at(m, z);
       EXPECT_NEAR(d.e, energy_at(m, z), 1e-13 * std::abs(d.e) + 1e-15);
       const double h = 1e-5;
@@ -106,6 +106,89 @@ TEST(SpanDerivatives, ConstantEnergyIsOneOverLength) {
     EXPECT_NEAR(d.g[2 + a], -t[a] / (len * len), 1e-16);
     for (int b = 0; b < 2; ++b) {
       EXPECT_NEAR(d.h[2 + a][2 + b], (3.0 * t[a] * t[b] - (a == b ? 1.0 : 0.0)) / 125.0, 1e-16);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fairspline
+
+namespace fairspline {
+namespace {
+
+/// Σ E_1/L over a chain, from scratch, at unknowns z = (θ_0, x_0, y_0, θ_1, ...).
+double chain_energy(const BasicCurveMethod& m, const std::vector<double>& z,
+                    const std::vector<double>& corner, bool closed) {
+  const std::size_t n = z.size() / 3, spans = closed ? n : n - 1;
+  double e = 0.0;
+  for (std::size_t s = 0; s < spans; ++s) {
+    const std::size_t i = s, j = s + 1 == n ? 0 : s + 1;
+    const double cx = z[3 * j + 1] - z[3 * i + 1], cy = z[3 * j + 2] - z[3 * i + 2];
+    const double phi = std::atan2(cy, cx);
+    e += basic_energy(m, z[3 * i] + corner[i] - phi, z[3 * j] - phi).e / std::hypot(cx, cy);
+  }
+  return e;
+}
+
+detail::ChainDerivatives chain_at(const BasicCurveMethod& m, const std::vector<double>& z,
+                                  const std::vector<double>& corner, bool closed) {
+  std::vector<Point> p;
+  std::vector<double> theta;
+  for (std::size_t i = 0; i < z.size() / 3; ++i) {
+    theta.push_back(z[3 * i]);
+    p.push_back({z[3 * i + 1], z[3 * i + 2]});
+  }
+  return detail::chain_derivatives(m, p, theta, corner, closed);
+}
+
+TEST(ChainDerivatives, GradientAndBlockTridiagonalHessianMatchFiniteDifferences) {
+  // Points on a wobbly circle (open and closed), directions near the chords' bisectors, a
+  // corner at node 2: every coupling the three unknowns per node have.
+  for (const bool closed : {false, true}) {
+    for (const BasicCurveMethod& m : {BasicCurveMethod{MinEnergyBasis::kCondG2, 1.0, kPi / 2},
+                                      BasicCurveMethod{MinEnergyBasis::kYongCheng, 1.0, kPi / 3},
+                                      BasicCurveMethod{MinEnergyBasis::kElastic, 1.0, kPi}}) {
+      SCOPED_TRACE(testing::Message()
+                   << "closed " << closed << " basis " << static_cast<int>(m.basis));
+      const std::size_t n = 6;
+      std::vector<double> z, corner(n, 0.0);
+      corner[2] = 0.2;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double t = 2 * kPi * i / n, r = 2.0 + 0.3 * std::sin(3.0 * i);
+        z.push_back(t + kPi / 2 + 0.1 * std::cos(5.0 * i) - (i == 2 ? 0.1 : 0.0));
+        z.push_back(r * std::cos(t));
+        z.push_back(r * std::sin(t));
+      }
+      const detail::ChainDerivatives d = chain_at(m, z, corner, closed);
+      EXPECT_NEAR(d.e, chain_energy(m, z, corner, closed), 1e-13 * d.e);
+      const double h = 1e-6;
+      for (std::size_t v = 0; v < z.size(); ++v) {
+        std::vector<double> zp = z, zm = z;
+        zp[v] += h;
+        zm[v] -= h;
+        const std::size_t node = v / 3, k = v % 3;
+        const double fd =
+            (chain_energy(m, zp, corner, closed) - chain_energy(m, zm, corner, closed)) / (2 * h);
+        EXPECT_NEAR(d.g[node][k], fd, 1e-7 * (1.0 + std::abs(fd))) << "unknown " << v;
+        // Column v of the Hessian from the analytic gradient; zero beyond the neighbours.
+        const detail::ChainDerivatives dp = chain_at(m, zp, corner, closed),
+                                       dm = chain_at(m, zm, corner, closed);
+        for (std::size_t row = 0; row < n; ++row) {
+          for (int a = 0; a < 3; ++a) {
+            const double want = (dp.g[row][a] - dm.g[row][a]) / (2 * h);
+            double got = 0.0;
+            const std::size_t spans = closed ? n : n - 1;
+            if (row == node)
+              got = d.diag[node][a][k];
+            else if ((row + 1) % n == node && row < spans)
+              got = d.off[row][a][k];
+            else if ((node + 1) % n == row && node < spans)
+              got = d.off[node][k][a];
+            EXPECT_NEAR(got, want, 1e-6 * (1.0 + std::abs(want)))
+                << "row " << row << "." << a << " column " << v;
+          }
+        }
+      }
     }
   }
 }
