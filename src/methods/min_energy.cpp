@@ -904,6 +904,9 @@ struct PairBounds {
   std::vector<double> lo, hi;
 };
 
+/// The elastic pair constraints |α − β| <= this sit just inside 180°, where E_1 is finite.
+constexpr double kPairLimit = kPi * (1.0 - 1e-12);
+
 PairBounds pair_bounds(const Chain& ch, double limit) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
   PairBounds p;
@@ -1385,6 +1388,10 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     for (std::size_t t = 0; t < k; ++t) last_step = std::max(last_step, std::abs(dir[t]));
     bool accepted = false;
     double taken = 0.0;
+    // A full step whose predicted decrease is within the energy's rounding is judged by that
+    // rounding (as in optimize): else a gradient of 1e-6 on a stiff node, whose Newton step
+    // lowers the energy by 1e-17 of it, stays unresolved.
+    const double rounding = 1e-12 * std::abs(energy) * std::sqrt(static_cast<double>(k));
     for (double step = 1.0; step > 1e-14; step *= 0.5) {
       double predicted = 0.0;
       for (std::size_t t = 0; t < k; ++t) {
@@ -1394,10 +1401,6 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       }
       if (!(predicted < 0.0)) continue;
       const double en = evaluate(ch, m, xn, true, trial, cs);
-      // A full step whose predicted decrease is within the energy's rounding is judged by
-      // that rounding (as in optimize): else a gradient of 1e-6 on a stiff node, whose Newton
-      // step lowers the energy by 1e-17 of it, stays unresolved.
-      const double rounding = 1e-12 * std::abs(energy) * std::sqrt(static_cast<double>(k));
       const bool within = step == 1.0 && -predicted <= rounding && en <= energy + rounding;
       if (en <= energy + 1e-4 * predicted || (step == 1.0 && en <= energy) || within) {
         ch.x.swap(xn);
@@ -1453,7 +1456,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
 /// start-dependent local minima: this returns the one reached from the restricted optimum.
 ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
-  const PairBounds pb = pair_bounds(ch, kPi * (1.0 - 1e-12));
+  const PairBounds pb = pair_bounds(ch, kPairLimit);
   Chain start = ch;
   // Held: fixed, or a restricted box found empty below. Each node's box is also bounded by its
   // pair constraints with held neighbours, so that the start satisfies every pair constraint
@@ -1700,7 +1703,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     // next given one (or the open end): an empty interval, or a given direction outside it,
     // means no s-curve joins them (two given tangents on one span, or a free point squeezed
     // between two: a closed 3-point curve had "no start").
-    const PairBounds pb = pair_bounds(ch, kPi * (1.0 - 1e-12));
+    const PairBounds pb = pair_bounds(ch, kPairLimit);
     for (std::size_t f = 0; f < k; ++f) {
       if (!ch.fixed[f]) continue;
       double lo = ch.x[f], hi = ch.x[f];
@@ -1886,7 +1889,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   const std::size_t n = out.points.size();
   // The elastic domain is open at 180°: the boxes stop 1e-12 short of it.
   const double omega =
-      m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPi * (1.0 - 1e-12)) : m.omega;
+      m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPairLimit) : m.omega;
   std::vector<Chain> chains = build_chains(out, input, omega, m.basis);
   const bool elastic = is_elastic(m.basis);
   // Elastic bases: the Béziers of each span, assembled in span order at the end.
