@@ -272,7 +272,8 @@ nlohmann::json method_schema(const MethodInfo& method) {
             {"regular", c.regular},
             {"needs_turns", c.needs_turns},
             {"needs_clamped_tangent", c.needs_clamped_tangent},
-            {"node_states", c.node_states}}},
+            {"node_states", c.node_states},
+            {"data_balls", c.data_balls}}},
           {"examples", std::move(examples)}};
 }
 
@@ -374,6 +375,7 @@ void remember_request(const FitInput& in, const FitOptions& fit_options, FitResu
   r.in_tangents.assign(in.in_tangents.begin(), in.in_tangents.end());
   r.out_tangents.assign(in.out_tangents.begin(), in.out_tangents.end());
   r.corners_deg.assign(in.corners_deg.begin(), in.corners_deg.end());
+  r.radii.assign(in.radii.begin(), in.radii.end());
   r.start_tangent = in.start_tangent;
   r.end_tangent = in.end_tangent;
 }

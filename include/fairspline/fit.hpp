@@ -57,6 +57,10 @@ struct FitInput {
   /// (counterclockwise positive), kept by a regular node while its direction is optimized;
   /// with one clamped direction it gives the other side's (empty = all 0).
   std::vector<double> corners_deg;
+  /// Per-point data-ball radius (empty = all 0): a point with radius r > 0 is a disc the curve
+  /// passes through anywhere, its position chosen with the directions to minimize the energy
+  /// (min-energy family; docs/methods/min-energy.md, "Data balls"). r = 0 interpolates.
+  std::vector<double> radii;
   /// Clamped end tangents of an open curve (derivative with respect to the knot parameter
   /// for C1 methods; only the direction matters for G1 methods).
   std::optional<Vec2> start_tangent;

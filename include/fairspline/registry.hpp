@@ -87,6 +87,8 @@ struct Capabilities {
   /// corners_deg). Other methods get inputs that `kinds` can express rewritten as kinds, and
   /// an error for the rest.
   bool node_states = false;
+  /// Fits data balls (FitInput::radii > 0): the curve passes through discs around the points.
+  bool data_balls = false;
   /// Example requests (JSON fit requests with at least "points") that the method fits: the
   /// fuzzer's seeds, the extremes suite's and the benchmarks' inputs, the docs' examples.
   std::vector<std::string> examples{};

@@ -110,6 +110,27 @@ bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double a
 
 }  // namespace
 
+void check_radii(const FitInput& input, std::size_t n) {
+  const std::vector<double>& r = input.radii;
+  if (!r.empty() && r.size() != input.points.size() && r.size() != n) {
+    throw Error(ErrorCode::kInvalidArgument, "radii has " + std::to_string(r.size()) +
+                                                 " entries but there are " + std::to_string(n) +
+                                                 " points");
+  }
+  for (std::size_t i = 0; i < std::min(r.size(), n); ++i) {
+    if (!std::isfinite(r[i])) {
+      throw Error(ErrorCode::kNonFinite,
+                  "the data-ball radius of point " + std::to_string(i) + " is not finite", i);
+    }
+    if (r[i] < 0.0) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "the data-ball radius of point " + std::to_string(i) + " is negative (" +
+                      format_number(r[i]) + "); a radius is 0 (pass through the point) or more",
+                  i);
+    }
+  }
+}
+
 namespace {
 
 // The checks of what a method accepts, after the points, knots and tangents are known good.
@@ -141,6 +162,17 @@ void check_capabilities(const FitInput& input, const Capabilities& caps, std::st
             ? std::nullopt
             : std::optional<OptionHint>(OptionHint{std::string(caps.points.relaxed_by),
                                                    std::string(caps.points.relaxed_value)}));
+  }
+  check_radii(input, n);
+  for (std::size_t i = 0; i < n && i < input.radii.size() && !caps.data_balls; ++i) {
+    if (input.radii[i] > 0.0) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "point " + std::to_string(i) + " is a data ball (radius " +
+                      format_number(input.radii[i]) + "), but " + name +
+                      " interpolates its points; give radius 0 or use a method that fits data "
+                      "balls (the min-energy family, restricted-elastic)",
+                  i);
+    }
   }
   for (std::size_t i = 0; i < std::min(input.kinds.size(), n); ++i) {
     if (!caps.honours(input.kinds[i])) {

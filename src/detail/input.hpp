@@ -22,6 +22,10 @@ namespace fairspline::detail {
 std::size_t prepare_input(const FitInput& input, const Capabilities& caps, std::string_view method,
                           FitResult& out, bool count_rule_relaxed = false);
 
+/// FitInput::radii: empty or one entry per point (n: without a closed curve's repeated end
+/// point), each finite (kNonFinite) and non-negative (kInvalidArgument), naming the point.
+void check_radii(const FitInput& input, std::size_t n);
+
 /// The point checks of prepare_input alone (NaN/Inf, consecutive repeated points, a closed
 /// curve's last point on its first), with the same messages and indices.
 void check_points(const FitInput& input);

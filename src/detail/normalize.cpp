@@ -81,6 +81,7 @@ void normalize_input(const FitInput& input, const Normalization& nz, const Capab
   check_points(input);
   out = input;
   for (Point& p : out.points) p = scaled(p, -nz.length_exponent);
+  for (double& r : out.radii) r = times_power_of_two(r, -nz.length_exponent);
   // A C1 method's tangent is dP/dt: its length scales as the points over the knots.
   if (caps.continuity != Continuity::kC1) return;
   const double e = nz.knot_exponent - nz.length_exponent;

@@ -43,9 +43,9 @@ E parse_choice(const detail::ChoiceTable<E, N>& table, std::string_view text, co
 namespace {
 
 constexpr const char* kInputFields[] = {
-    "points",        "closed",      "tangents", "kinds",    "states",     "in_tangents",
-    "out_tangents",  "corners_deg", "method",   "options",  "alpha",      "knots",
-    "start_tangent", "end_tangent", "lambdas",  "accuracy", "best_effort"};
+    "points",       "closed",        "tangents",    "kinds",   "states",   "in_tangents",
+    "out_tangents", "corners_deg",   "radii",       "method",  "options",  "alpha",
+    "knots",        "start_tangent", "end_tangent", "lambdas", "accuracy", "best_effort"};
 
 std::string field_list() {
   std::string s;
@@ -360,6 +360,17 @@ ParsedInput input_from_json(const json& document) {
     }
   }
 
+  if (auto it = document.find("radii"); it != document.end()) {
+    const json& arr = require_array(*it, "radii");
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      if (!arr[i].is_number()) {
+        parse_fail(indexed("radii", i) + ": expected a radius (a number), got " + preview(arr[i]),
+                   i);
+      }
+      in.radii.push_back(finite_number(arr[i], indexed("radii", i), i));
+    }
+  }
+
   if (auto it = document.find("kinds"); it != document.end()) {
     const json& arr = require_array(*it, "kinds");
     for (std::size_t i = 0; i < arr.size(); ++i) {
@@ -445,6 +456,7 @@ json input_to_json(const FitInput& in, std::optional<double> accuracy) {
   if (in.closed) j["closed"] = true;
   if (!in.corners_deg.empty()) j["corners_deg"] = in.corners_deg;
   if (in.end_tangent) j["end_tangent"] = pair(*in.end_tangent);
+  if (!in.radii.empty()) j["radii"] = in.radii;
   if (!in.in_tangents.empty()) j["in_tangents"] = optional_pairs(in.in_tangents);
   if (!in.kinds.empty()) {
     json k = json::array();

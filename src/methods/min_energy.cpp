@@ -20,6 +20,7 @@
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
 #include "fairspline/error.hpp"
+#include "methods/data_balls.hpp"
 #include "methods/min_energy_options.hpp"
 
 namespace fairspline {
@@ -1754,6 +1755,22 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   return chains;
 }
 
+/// Starts each free direction of the chains at the directions `warm` gives its spans (a data-
+/// ball fit refitting its optimum), within the node's box.
+void start_from(const detail::SpanDirections& warm, std::size_t n, std::vector<Chain>& chains) {
+  for (Chain& ch : chains) {
+    const std::size_t k = ch.node.size();
+    for (std::size_t t = 0; t < k; ++t) {
+      if (ch.fixed[t]) continue;
+      const bool has_prev = ch.closed || t > 0;
+      const std::size_t i = ch.node[t];
+      const Vec2 d = has_prev ? warm[i == 0 ? n - 1 : i - 1][1] : warm[i][0];
+      const double x = std::atan2(cross(ch.ref[t], d), dot(ch.ref[t], d));
+      ch.x[t] = std::clamp(x, ch.lo[t], ch.hi[t]);
+    }
+  }
+}
+
 /// The exact elastic piece of one span and its Béziers within accuracy·|p1 − p0| (at least
 /// 1e-12 of it, the approximation's floor); `hint`: the optimizer's last solve of the span.
 std::vector<CubicBezier> elastic_span(Point p0, Point p1, double alpha, double beta,
@@ -1852,6 +1869,7 @@ const Capabilities& min_energy_capabilities() {
       .kinds = {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner},
       .continuity = Continuity::kG2,
       .node_states = true,
+      .data_balls = true,
       .examples = {R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0],[8,1],[9,3]]})",
                    R"({"points": [[0,0],[4,0],[4,4],[0,4]], "closed": true})",
                    R"({"points": [[0,0],[1,2],[3,3],[5,2],[6,0]],
@@ -1864,6 +1882,16 @@ const Capabilities& min_energy_capabilities() {
 
 void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
                     FitResult& out, MinEnergyReport* report) {
+  if (detail::has_data_balls(input)) {
+    detail::fit_data_balls(input, options, level, out, report);
+  } else {
+    detail::fit_min_energy_at(input, options, level, out, report, nullptr, nullptr);
+  }
+}
+
+void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& options,
+                               ReportLevel level, FitResult& out, MinEnergyReport* report,
+                               const SpanDirections* warm, SpanDirections* dirs) {
   const BasicCurveMethod& m = options.method;
   if (m.basis == MinEnergyBasis::kElastic) {
     if (!(m.omega > 0.0 && m.omega <= kPi + 1e-12)) {
@@ -1891,6 +1919,8 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   const double omega =
       m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPairLimit) : m.omega;
   std::vector<Chain> chains = build_chains(out, input, omega, m.basis);
+  if (warm) start_from(*warm, n, chains);
+  if (dirs) dirs->resize(out.closed ? n : n - 1);
   const bool elastic = is_elastic(m.basis);
   // Elastic bases: the Béziers of each span, assembled in span order at the end.
   std::vector<std::vector<CubicBezier>> span_pieces(elastic ? (out.closed ? n : n - 1) : 0);
@@ -1970,6 +2000,7 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
       const Vec2 c = (p1 - p0) * ch.w[s];
       const double ca = dot(uout[i], c), sa = cross(c, uout[i]), cb = dot(u[j], c),
                    sb = cross(c, u[j]);
+      if (dirs) (*dirs)[seg] = {uout[i], u[j]};
       if (elastic) {
         // Relative to the chord; data too large for a finite diagonal: the accuracy itself.
         double relative = tolerance / norm(p1 - p0);

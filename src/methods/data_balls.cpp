@@ -1,0 +1,1113 @@
+// Data balls: the minimal-energy curve through discs. The unknowns are the free directions
+// (one per regular node, one per side beside a free side) and the positions of the ball
+// nodes; a span's energy E_1(α, β)/L depends on its two nodes only, so the Newton system is
+// banded (a closed curve adds a border). Derivation: docs/methods/min-energy.md, "Data balls".
+#include "methods/data_balls.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "detail/ball_energy.hpp"
+#include "detail/banded.hpp"
+#include "detail/format.hpp"
+#include "detail/input.hpp"
+#include "detail/nodes.hpp"
+#include "fairspline/error.hpp"
+
+namespace fairspline::detail {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double wrap(double a) {
+  return std::remainder(a, 2.0 * kPi);
+}
+
+// A quantity with its first and second derivatives with respect to up to four unknowns.
+struct Jet {
+  double v = 0.0;
+  int m = 0;
+  std::array<int, 6> idx{};
+  std::array<double, 6> d{};
+  std::array<std::array<double, 6>, 6> h{};
+};
+
+// The same for a vector (a position or a chord).
+struct VJet {
+  Vec2 v{};
+  int m = 0;
+  std::array<int, 4> idx{};
+  std::array<Vec2, 4> d{};
+  std::array<std::array<Vec2, 4>, 4> h{};
+};
+
+// A direction unknown: a regular node's direction (its incoming one; the outgoing one is
+// turned by the corner), or one side's beside a free side. Its box constraints: per adjacent
+// span, |θ + offset − φ_span| <= Ω.
+struct Slot {
+  double theta = 0.0;
+  bool fixed = false;
+  int nbox = 0;
+  std::array<std::size_t, 2> span{};
+  std::array<double, 2> offset{};
+  int active = -1;  // which box holds it, or −1
+  int sign = 0;     // +1 at its upper bound, −1 at its lower one
+  int var = -1;
+};
+
+struct Node {
+  Point q{}, p{};  // centre and position
+  double r = 0.0;
+  bool boundary = false;  // on the disc's circle (one unknown, the angle)
+  double scale = 1.0;     // of its position unknowns: the shorter adjacent chord
+  Vec2 u{1.0, 0.0};       // free position: its unknowns move it along u (radial) and u⊥
+  int var = -1;
+  int in = -1, out = -1;  // slots
+  double corner = 0.0;    // added to the out slot's θ (a regular node: in == out)
+};
+
+struct Problem {
+  BasicCurveMethod m;
+  double omega = 0.0;
+  bool closed = false;
+  std::vector<Node> node;
+  std::vector<Slot> slot;
+  std::size_t spans() const { return closed ? node.size() : node.size() - 1; }
+  std::size_t next(std::size_t i) const { return i + 1 == node.size() ? 0 : i + 1; }
+};
+
+VJet position(const Node& nd) {
+  VJet j;
+  j.v = nd.p;
+  if (nd.var < 0) return j;
+  if (nd.boundary) {
+    const Vec2 u = (nd.p - nd.q) / nd.r;
+    j.m = 1;
+    j.idx[0] = nd.var;
+    j.d[0] = {-nd.r * u.y, nd.r * u.x};
+    j.h[0][0] = {-nd.r * u.x, -nd.r * u.y};
+  } else {
+    j.m = 2;
+    j.idx = {nd.var, nd.var + 1, 0, 0};
+    j.d[0] = nd.u;
+    j.d[1] = {-nd.u.y, nd.u.x};
+  }
+  return j;
+}
+
+VJet chord(const VJet& a, const VJet& b) {  // b − a
+  VJet c;
+  c.v = b.v - a.v;
+  c.m = a.m + b.m;
+  for (int k = 0; k < a.m; ++k) {
+    c.idx[k] = a.idx[k];
+    c.d[k] = -1.0 * a.d[k];
+    for (int l = 0; l < a.m; ++l) c.h[k][l] = -1.0 * a.h[k][l];
+  }
+  for (int k = 0; k < b.m; ++k) {
+    c.idx[a.m + k] = b.idx[k];
+    c.d[a.m + k] = b.d[k];
+    for (int l = 0; l < b.m; ++l) c.h[a.m + k][a.m + l] = b.h[k][l];
+  }
+  return c;
+}
+
+// φ = atan2(c): ∂φ/∂c = n/L, ∂²φ/∂c² = −(t nᵀ + n tᵀ)/L².
+Jet angle(const VJet& c) {
+  Jet j;
+  const double len = norm(c.v);
+  const Vec2 t = c.v / len, n{-t.y, t.x};
+  j.v = std::atan2(c.v.y, c.v.x);
+  j.m = c.m;
+  for (int k = 0; k < c.m; ++k) j.idx[k] = c.idx[k];
+  for (int k = 0; k < c.m; ++k) {
+    j.d[k] = dot(n, c.d[k]) / len;
+    for (int l = 0; l < c.m; ++l) {
+      const Vec2 a = c.d[k], b = c.d[l];
+      j.h[k][l] =
+          -(dot(t, a) * dot(n, b) + dot(n, a) * dot(t, b)) / (len * len) + dot(n, c.h[k][l]) / len;
+    }
+  }
+  return j;
+}
+
+struct State {
+  std::vector<double> phi, len;  // per span
+};
+
+void chord_angles(const Problem& pb, State& st) {
+  const std::size_t ns = pb.spans();
+  st.phi.resize(ns);
+  st.len.resize(ns);
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Vec2 c = pb.node[pb.next(s)].p - pb.node[s].p;
+    st.phi[s] = std::atan2(c.y, c.x);
+    st.len[s] = norm(c);
+  }
+}
+
+// The end angles of span s.
+std::pair<double, double> end_angles(const Problem& pb, const State& st, std::size_t s) {
+  const Node& a = pb.node[s];
+  const Node& b = pb.node[pb.next(s)];
+  const double out = pb.slot[a.out].theta + (a.in == a.out ? a.corner : 0.0);
+  return {wrap(out - st.phi[s]), wrap(pb.slot[b.in].theta - st.phi[s])};
+}
+
+// E_1 with its value free of cancellation: cond-G2's 2λ²cos(α−β) − 6λ(cos α + cos β) + 4λ² + 6
+// is 6(λ−1)² + 12λ(sin²(α/2) + sin²(β/2)) − 4λ² sin²((α−β)/2), whose terms do not cancel as
+// the curve straightens (the line search compares energies of nearly straight data).
+BasicEnergy span_energy(const BasicCurveMethod& m, double alpha, double beta) {
+  BasicEnergy e = basic_energy(m, alpha, beta);
+  if (m.basis == MinEnergyBasis::kCondG2) {
+    const double l = m.lambda, sa = std::sin(0.5 * alpha), sb = std::sin(0.5 * beta),
+                 sd = std::sin(0.5 * (alpha - beta));
+    e.e = 6.0 * (l - 1.0) * (l - 1.0) + 12.0 * l * (sa * sa + sb * sb) - 4.0 * l * l * sd * sd;
+  }
+  return e;
+}
+
+double total_energy(const Problem& pb, const State& st) {
+  double e = 0.0;
+  for (std::size_t s = 0; s < pb.spans(); ++s) {
+    const auto [al, be] = end_angles(pb, st, s);
+    e += span_energy(pb.m, al, be).e / st.len[s];
+  }
+  return e;
+}
+
+// Puts every active slot on its bound and clips the others into their boxes (activating them
+// there). False when a box cannot be met (the positions turned a stencil beyond 2Ω, or moved a
+// chord off a given direction).
+bool settle(Problem& pb, const State& st, bool clip = true) {
+  const double om = pb.omega;
+  for (Slot& sl : pb.slot) {
+    if (sl.active >= 0) {
+      const int a = sl.active;
+      sl.theta = st.phi[sl.span[a]] - sl.offset[a] + sl.sign * om;
+    }
+    for (int b = 0; b < sl.nbox; ++b) {
+      const double dev = wrap(sl.theta + sl.offset[b] - st.phi[sl.span[b]]);
+      if (std::abs(dev) < om || (clip && std::abs(dev) == om)) continue;
+      if (sl.fixed || sl.active >= 0 || !clip) return false;
+      sl.theta -= dev - std::copysign(om, dev);
+      sl.active = b;
+      sl.sign = dev > 0 ? 1 : -1;
+      for (int c = 0; c < b; ++c) {
+        if (std::abs(wrap(sl.theta + sl.offset[c] - st.phi[sl.span[c]])) > om) return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Numbers the unknowns node by node; a closed curve's first two nodes come last (the border:
+// the wrap-around couples them with the end). Returns the number of border unknowns.
+std::size_t number_unknowns(Problem& pb, std::vector<double>& scale) {
+  scale.clear();
+  auto visit = [&](std::size_t i) {
+    Node& nd = pb.node[i];
+    for (int s : {nd.in, nd.out}) {
+      if (s < 0) continue;
+      Slot& sl = pb.slot[s];
+      if (sl.var >= 0 && s == nd.out && nd.in == nd.out) continue;  // numbered as in
+      sl.var = -1;
+      if (sl.fixed || sl.active >= 0) continue;
+      sl.var = static_cast<int>(scale.size());
+      scale.push_back(1.0);
+    }
+    nd.var = -1;
+    if (nd.r > 0.0) {
+      const Vec2 off = nd.p - nd.q;
+      const double d = norm(off);
+      nd.u = d > 0.0 ? off / d : Vec2{1.0, 0.0};
+      nd.var = static_cast<int>(scale.size());
+      if (nd.boundary) {
+        scale.push_back(nd.scale / nd.r);
+      } else {
+        scale.push_back(nd.scale);
+        scale.push_back(nd.scale);
+      }
+    }
+  };
+  for (Slot& sl : pb.slot) sl.var = -1;
+  const std::size_t n = pb.node.size();
+  const std::size_t first = pb.closed && n > 3 ? 2 : 0;
+  for (std::size_t i = first; i < n; ++i) visit(i);
+  const std::size_t band = scale.size();
+  for (std::size_t i = 0; i < first; ++i) visit(i);
+  return scale.size() - band;
+}
+
+Jet slot_jet(const Problem& pb, const Slot& sl) {
+  Jet j;
+  j.v = sl.theta;
+  if (sl.var >= 0) {
+    j.m = 1;
+    j.idx[0] = sl.var;
+    j.d[0] = 1.0;
+  } else if (sl.active >= 0) {
+    const std::size_t s = sl.span[sl.active];
+    j = angle(chord(position(pb.node[s]), position(pb.node[pb.next(s)])));
+    j.v = sl.theta;
+  }
+  return j;
+}
+
+// Raw partial derivatives: per slot ∂E/∂θ, per node ∂E/∂p (the other raw quantities held).
+struct Raw {
+  std::vector<double> slot;
+  std::vector<Vec2> node;
+};
+
+// Energy, reduced gradient and Hessian (scaled: unknown k times scale[k]) into `h` and `g`.
+double assemble(const Problem& pb, const State& st, std::span<const double> scale,
+                std::size_t border, BorderedBand& h, std::vector<double>& g, Raw& raw) {
+  const std::size_t nv = scale.size(), band = nv - border, ns = pb.spans();
+  g.assign(nv, 0.0);
+  raw.slot.assign(pb.slot.size(), 0.0);
+  raw.node.assign(pb.node.size(), Vec2{});
+  struct Local {
+    std::array<int, 12> idx{};
+    int m = 0;
+    int at(int v) {
+      for (int k = 0; k < m; ++k) {
+        if (idx[k] == v) return k;
+      }
+      idx[m] = v;
+      return m++;
+    }
+  };
+  // The band's width: the spread of the unknowns each span depends on (a direction on a
+  // bound depends on the positions of its span's nodes).
+  std::size_t width = 0;
+  for (std::size_t s = 0; s < ns; ++s) {
+    std::size_t lo = nv, hi = 0;
+    auto see = [&](int v, int count) {
+      for (int k = 0; k < count; ++k) {
+        if (v < 0 || static_cast<std::size_t>(v + k) >= band) continue;
+        lo = std::min(lo, static_cast<std::size_t>(v + k));
+        hi = std::max(hi, static_cast<std::size_t>(v + k));
+      }
+    };
+    auto see_node = [&](const Node& nd) { see(nd.var, nd.boundary ? 1 : 2); };
+    auto see_slot = [&](const Slot& sl) {
+      see(sl.var, 1);
+      if (sl.active >= 0) {
+        const std::size_t t = sl.span[sl.active];
+        see_node(pb.node[t]);
+        see_node(pb.node[pb.next(t)]);
+      }
+    };
+    see_node(pb.node[s]);
+    see_node(pb.node[pb.next(s)]);
+    see_slot(pb.slot[pb.node[s].out]);
+    see_slot(pb.slot[pb.node[pb.next(s)].in]);
+    if (lo <= hi) width = std::max(width, hi - lo);
+  }
+  h.reset(band, width, border);
+  double energy = 0.0;
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Node& a = pb.node[s];
+    const std::size_t j = pb.next(s);
+    Jet o = slot_jet(pb, pb.slot[a.out]);
+    if (a.in == a.out) o.v += a.corner;
+    const Jet in = slot_jet(pb, pb.slot[pb.node[j].in]);
+    const VJet c = chord(position(a), position(pb.node[j]));
+    const double phi = st.phi[s];
+    const SpanDerivatives sd =
+        span_derivatives(span_energy(pb.m, wrap(o.v - phi), wrap(in.v - phi)), c.v);
+    energy += sd.e;
+    raw.slot[a.out] += sd.g[0];
+    raw.slot[pb.node[j].in] += sd.g[1];
+    raw.node[s] -= Vec2{sd.g[2], sd.g[3]};
+    raw.node[j] += Vec2{sd.g[2], sd.g[3]};
+    // Chain rule: J (4 raw × m local) and the raw quantities' own second derivatives.
+    Local loc;
+    std::array<std::array<double, 12>, 4> jac{};
+    std::array<std::array<double, 12>, 12> second{};
+    auto scalar = [&](const Jet& x, int row) {
+      std::array<int, 6> at{};
+      for (int k = 0; k < x.m; ++k) at[k] = loc.at(x.idx[k]);
+      for (int k = 0; k < x.m; ++k) {
+        jac[row][at[k]] += x.d[k];
+        for (int l = 0; l < x.m; ++l) second[at[k]][at[l]] += sd.g[row] * x.h[k][l];
+      }
+    };
+    scalar(o, 0);
+    scalar(in, 1);
+    {
+      std::array<int, 4> at{};
+      for (int k = 0; k < c.m; ++k) at[k] = loc.at(c.idx[k]);
+      for (int k = 0; k < c.m; ++k) {
+        jac[2][at[k]] += c.d[k].x;
+        jac[3][at[k]] += c.d[k].y;
+        for (int l = 0; l < c.m; ++l) {
+          second[at[k]][at[l]] += sd.g[2] * c.h[k][l].x + sd.g[3] * c.h[k][l].y;
+        }
+      }
+    }
+    std::array<std::array<double, 12>, 4> hj{};  // h · J
+    for (int r = 0; r < 4; ++r) {
+      for (int u = 0; u < loc.m; ++u) {
+        double sum = 0.0;
+        for (int q = 0; q < 4; ++q) sum += sd.h[r][q] * jac[q][u];
+        hj[r][u] = sum;
+      }
+    }
+    for (int u = 0; u < loc.m; ++u) {
+      const std::size_t gu = static_cast<std::size_t>(loc.idx[u]);
+      double gsum = 0.0;
+      for (int r = 0; r < 4; ++r) gsum += sd.g[r] * jac[r][u];
+      g[gu] += gsum * scale[gu];
+      for (int v = 0; v <= u; ++v) {
+        const std::size_t gv = static_cast<std::size_t>(loc.idx[v]);
+        double sum = second[u][v];
+        for (int r = 0; r < 4; ++r) sum += jac[r][u] * hj[r][v];
+        h.add(gu, gv, sum * scale[gu] * scale[gv]);
+      }
+    }
+  }
+  return energy;
+}
+
+struct Outcome {
+  int iterations = 0;
+  bool converged = false, stalled = false;
+  double residual = HUGE_VAL;  // relative KKT residual
+  std::size_t worst = 0;       // the node where it is largest
+};
+
+/// The barrier phase only finds the neighbourhood of the optimum; the active-set phase ends it.
+constexpr double kLastBarrier = 1e-14;
+
+/// The KKT residual the optimizer stops at (relative; the option `tolerance` when larger): a
+/// quarter of 1e-8, so that the returned curve (its directions refitted at the positions) is
+/// within 1e-8. The positions of inactive balls slide along the curve with almost no change of
+/// energy: further down, the last digits took tens of iterations each.
+constexpr double kBallTolerance = 2.5e-9;
+
+/// The exact phase's barrier on the boxes that bound positions (relative to the typical torque).
+constexpr double kHeldBarrier = 1e-8;
+
+// Pivots of the Newton matrix below this fraction of its largest diagonal entry count as zero.
+constexpr double kMinPivot = 1e-16;
+
+/// Newton iterations per barrier stage at most (a stage only guides the next one).
+constexpr int kStageIterations = 40;
+
+/// Positions the barrier left within this fraction of the radius of their circle start on it.
+constexpr double kCrossOver = 1e-3;
+
+/// A KKT residual the optimizer may stop at when no step lowers the energy any more.
+constexpr double kConditioningResidual = 1e-6;
+
+class Solver {
+ public:
+  Solver(Problem& pb, State& st, const MinEnergyOptions& options)
+      : pb_(pb), st_(st), n_(pb.node.size()), ns_(pb.spans()) {
+    for (double l : st.len) {
+      gscale_ = std::max(gscale_, 1.0 / l);
+      wsum_ += 1.0 / l;
+    }
+    tol = std::max(options.tolerance, kBallTolerance) * gscale_;
+    // The elastic energies come from root-finds, relative-accurate to ~1e-12.
+    relative_rounding_ = is_elastic(pb.m.basis) ? 1e-12 : 1e-15;
+    max_iterations_ = options.max_iterations;
+    held_.assign(n_, 0);
+  }
+
+  double tol = 0.0;
+
+  /// Barrier stages μ = 1e-2 … 1e-12: each minimizes E − μ Σ log(1 − |p − q|²/r²)/ℓ to a
+  /// residual of μ.
+  Outcome barrier_phase() {
+    Outcome total;
+    // The barrier's weights: per ball μ·F·r, F the energy's typical force on a position, so
+    // that at the barrier's optimum a disc pressed with force f keeps a slack of about μ·r·F/f;
+    // per direction box μ·T, T the typical torque on a direction. The boxes' barriers keep
+    // every stencil turning less than 2Ω while the positions move (as constraints they could
+    // only be met by rejecting steps).
+    const double om = pb_.omega;
+    for (Slot& sl : pb_.slot) {
+      if (sl.fixed) continue;
+      sl.active = -1;
+      for (int k = 0; k < sl.nbox; ++k) {  // strictly inside its boxes
+        const double dev = wrap(sl.theta + sl.offset[k] - st_.phi[sl.span[k]]);
+        const double lim = om * (1.0 - 1e-3);
+        if (std::abs(dev) > lim) sl.theta -= dev - std::copysign(lim, dev);
+      }
+    }
+    measure_scales();
+    // Stages until every disc is either pressed to within kCrossOver·r of its circle or no
+    // longer moved by the barrier (its slack changed less than a fifth in the last stage).
+    std::vector<double> slack(n_, -1.0);
+    for (double mu = 1e-1; mu >= kLastBarrier && total.iterations < max_iterations_; mu *= 0.1) {
+      if (mu < 1e-1) measure_scales();
+      // The exact phase keeps the last stage's barrier on the boxes that bound positions
+      // (at least kHeldBarrier): starting at that barrier's optimum, not beside it.
+      held_weight_ = std::max(mu, kHeldBarrier) * torque_;
+      const Outcome o = run(mu, std::min(kStageIterations, max_iterations_ - total.iterations),
+                            std::max(mu, kConditioningResidual * 1e-2) * gscale_);
+      total.iterations += o.iterations;
+      bool settled = o.converged;
+      for (std::size_t i = 0; i < n_; ++i) {
+        const Node& nd = pb_.node[i];
+        if (nd.r == 0.0) continue;
+        const double now = 1.0 - norm(nd.p - nd.q) / nd.r;
+        settled = settled && (now <= kCrossOver || std::abs(now - slack[i]) <= 0.2 * slack[i]);
+        slack[i] = now;
+      }
+      // A stage that no longer converges (the barrier's conditioning near the circles) ends
+      // the phase: later stages only drift.
+      if (settled || !o.converged) break;
+    }
+    return total;
+  }
+
+  // The energy's typical force on a position and torque on a direction at the current point:
+  // the barrier weights' scales, renewed per stage as the curve straightens.
+  void measure_scales() {
+    evaluate(0.0, number_unknowns(pb_, scale_));
+    double sum = 0.0, tsum = 0.0;
+    std::size_t balls = 0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (pb_.node[i].r == 0.0) continue;
+      sum += dot(force(i), force(i));
+      ++balls;
+    }
+    for (double t : raw_.slot) tsum += t * t;
+    const double slots = static_cast<double>(std::max<std::size_t>(raw_.slot.size(), 1));
+    force_ = std::sqrt(sum / static_cast<double>(balls));
+    torque_ = std::max(std::sqrt(tsum / slots), 1e-3 * gscale_);
+    if (!(force_ > 1e-6 * gscale_ * gscale_)) force_ = 1e-6 * gscale_ * gscale_;
+  }
+
+  /// Positions the last barrier stage left within kCrossOver·r of their circle go onto it.
+  void cross_over() {
+    std::vector<std::size_t> near;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Node& nd = pb_.node[i];
+      if (nd.r == 0.0 || nd.boundary) continue;
+      const double d = norm(nd.p - nd.q);
+      if (d >= nd.r * (1.0 - kCrossOver) && d > 0.0) near.push_back(i);
+    }
+    // All at once, or (if that leaves a direction no box) one by one, each kept if it does not.
+    if (!snap(near)) {
+      for (std::size_t i : near) snap({&i, 1});
+    }
+    // Directions within kCrossOver·Ω of a bound go onto it.
+    Problem p = pb_;
+    const double om = pb_.omega;
+    for (Slot& sl : p.slot) {
+      if (sl.fixed || sl.active >= 0) continue;
+      for (int k = 0; k < sl.nbox; ++k) {
+        const double dev = wrap(sl.theta + sl.offset[k] - st_.phi[sl.span[k]]);
+        if (om - std::abs(dev) <= kCrossOver * om) {
+          sl.active = k;
+          sl.sign = dev > 0 ? 1 : -1;
+          break;
+        }
+      }
+    }
+    if (settle(p, st_) && std::isfinite(total_energy(p, st_))) std::swap(pb_, p);
+  }
+
+  bool snap(std::span<const std::size_t> which) {
+    if (which.empty()) return true;
+    Problem p = pb_;
+    State s;
+    for (std::size_t i : which) {
+      Node& nd = p.node[i];
+      const Vec2 off = nd.p - nd.q;
+      nd.p = nd.q + (nd.r / norm(off)) * off;
+      nd.boundary = true;
+    }
+    chord_angles(p, s);
+    if (!settle(p, s) || !std::isfinite(total_energy(p, s))) return false;
+    std::swap(pb_, p);
+    std::swap(st_, s);
+    return true;
+  }
+
+  /// Projected Newton iterations (at most `budget`) until the residual is below `target`; with
+  /// mu > 0 the discs are kept by the barrier, with mu = 0 by active constraints.
+  Outcome run(double mu, int budget, double target) {
+    Outcome o;
+    int flat = 0;
+    double best_pg = HUGE_VAL;
+    for (;; ++o.iterations) {
+      std::size_t border = number_unknowns(pb_, scale_);
+      double phi = evaluate(mu, border);
+      double pg = 0.0, wrong = 0.0;
+      std::size_t pg_at = 0, wrong_at = 0;
+      residuals(pg, pg_at, wrong, wrong_at);
+      o.residual = std::max(pg, wrong) / gscale_;
+      o.worst = pg >= wrong ? pg_at : wrong_at;
+      if (pg <= target && wrong <= target) {
+        o.converged = true;
+        return o;
+      }
+      if (o.iterations >= budget) return o;
+      const double rounding = relative_rounding_ * std::abs(phi);
+      // A constraint is freed once the point is stationary on its face (else the Newton step
+      // can point out through it again).
+      const double free_at = std::max(target, pg);
+      if (wrong > free_at && release(free_at)) {
+        border = number_unknowns(pb_, scale_);
+        phi = evaluate(mu, border);
+      }
+      newton();
+      // Positions the full step takes out of their disc are pinned where their radial unknown
+      // reaches the circle and the rest of the step is solved again (the projection in the line
+      // search bent the step, which then went a few percent of the way per iteration).
+      if (mu == 0.0) {
+        std::vector<std::pair<std::size_t, double>> pins;
+        for (int pass = 0; pass < 4; ++pass) {
+          const std::size_t before = pins.size();
+          for (const Node& nd : pb_.node) {
+            if (nd.var < 0 || nd.boundary) continue;
+            const Vec2 off = nd.p - nd.q;
+            const std::size_t v = static_cast<std::size_t>(nd.var);
+            if (norm(off + displacement(nd)) <= nd.r) continue;
+            if (std::any_of(pins.begin(), pins.end(),
+                            [&](const auto& q) { return q.first == v; })) {
+              continue;
+            }
+            pins.emplace_back(v, (nd.r - dot(off, nd.u)) / scale_[v]);
+          }
+          if (pins.size() == before) break;
+          newton(pins);
+        }
+        if (!pins.empty() && !(slope_ < 0.0)) newton();  // pinned, the step went uphill
+      }
+      // A freed position on its circle that the step still takes outward is held there again
+      // (until a step is accepted): several freed together can each be pushed out by the rest.
+      if (mu == 0.0 && hold_pushed_out()) {
+        border = number_unknowns(pb_, scale_);
+        phi = evaluate(mu, border);
+        newton();
+      }
+      // With the barrier the step stays inside the discs (a fraction of the way to the circle).
+      // Without, the full step is tried with every position that leaves its disc put on the
+      // circle, then the step to where the first one meets it, then shorter ones.
+      const double cross = std::max(0.0, to_circle());
+      double t = mu > 0.0 ? std::min(1.0, 0.99 * cross) : 1.0;
+      bool accepted = false;
+      for (int tries = 0; tries < 60 && t > 1e-12; ++tries) {
+        if (move(t, mu)) {
+          const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
+          if (std::isfinite(e) &&
+              (e <= phi + 1e-4 * t * slope_ || (t == 1.0 && e <= phi + rounding))) {
+            accepted = true;
+            break;
+          }
+        }
+        t = mu == 0.0 && t == 1.0 && cross < 1.0 && cross > 1e-3 ? cross : 0.5 * t;
+      }
+      if (!accepted) {
+        o.stalled = true;
+        return o;
+      }
+      // Steps accepted only within the rounding of φ: the point is as good as it gets.
+      const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
+      best_pg = std::min(best_pg, pg);
+      flat = e > phi - rounding && pg >= 0.9 * best_pg ? flat + 1 : 0;
+      std::swap(pb_, trial_);
+      std::swap(st_, tst_);
+      held_.assign(n_, 0);
+      if (flat >= 5) {
+        ++o.iterations;
+        o.stalled = true;
+        return o;
+      }
+    }
+  }
+
+ private:
+  double barrier(const Problem& pb, const State& st, double mu) const {
+    double b = 0.0;
+    for (const Node& nd : pb.node) {
+      if (mu == 0.0 || nd.r == 0.0 || nd.boundary) continue;
+      const Vec2 off = nd.p - nd.q;
+      b -= mu * force_ * nd.r * std::log1p(-dot(off, off) / (nd.r * nd.r));
+    }
+    const double om = pb.omega;
+    for (const Slot& sl : pb.slot) {
+      for (int k = 0; k < sl.nbox; ++k) {
+        const double w = box_weight(sl, k, mu);
+        if (w == 0.0) continue;
+        const double dev = wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
+        b -= w * std::log((om - dev) * (om + dev) / (om * om));
+      }
+    }
+    return b;
+  }
+
+  // The barrier on box k of a slot: every box in the barrier phase; in the exact phase the
+  // boxes that are not constraints of their own (a given direction's, and the second box of a
+  // direction on a bound: they bound the positions, a stencil turning at most 2Ω) keep a
+  // barrier of weight kHeldBarrier, so that the optimum where one holds is reached as the
+  // barrier's (its force is that box's multiplier) instead of by rejected steps.
+  double box_weight(const Slot& sl, int k, double mu) const {
+    if (mu > 0.0) return sl.active < 0 ? mu * torque_ : 0.0;
+    if (sl.fixed || (sl.active >= 0 && sl.active != k)) return held_weight_;
+    return 0.0;
+  }
+
+  // Adds f(x) to the gradient and Hessian, for a quantity x given as a jet and f's first and
+  // second derivatives there.
+  void add_function(const Jet& x, double f1, double f2) {
+    for (int k = 0; k < x.m; ++k) {
+      const std::size_t u = static_cast<std::size_t>(x.idx[k]);
+      g_[u] += f1 * x.d[k] * scale_[u];
+      for (int l = 0; l <= k; ++l) {
+        const std::size_t v = static_cast<std::size_t>(x.idx[l]);
+        h_.add(u, v, (f2 * x.d[k] * x.d[l] + f1 * x.h[k][l]) * scale_[u] * scale_[v]);
+      }
+    }
+  }
+
+  double evaluate(double mu, std::size_t border) {
+    double phi = assemble(pb_, st_, scale_, border, h_, g_, raw_);
+    phi += barrier(pb_, st_, mu);
+    const double om = pb_.omega;
+    for (const Slot& sl : pb_.slot) {
+      for (int k = 0; k < sl.nbox; ++k) {
+        const double w = box_weight(sl, k, mu);
+        if (w == 0.0) continue;
+        const std::size_t t = sl.span[k];
+        Jet dev = angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)])));
+        for (int a = 0; a < dev.m; ++a) {
+          dev.d[a] = -dev.d[a];
+          for (int b = 0; b < dev.m; ++b) dev.h[a][b] = -dev.h[a][b];
+        }
+        if (sl.active >= 0) {  // θ = φ_a + const: its own chord's jet
+          const std::size_t a = sl.span[sl.active];
+          const Jet own = angle(chord(position(pb_.node[a]), position(pb_.node[pb_.next(a)])));
+          for (int q = 0; q < own.m; ++q) {
+            int at = -1;
+            for (int r = 0; r < dev.m; ++r) {
+              if (dev.idx[r] == own.idx[q]) at = r;
+            }
+            if (at < 0) {
+              at = dev.m++;
+              dev.idx[at] = own.idx[q];
+              dev.d[at] = 0.0;
+              for (int r = 0; r < dev.m; ++r) dev.h[at][r] = dev.h[r][at] = 0.0;
+            }
+            dev.d[at] += own.d[q];
+          }
+          for (int q = 0; q < own.m; ++q) {
+            for (int r = 0; r < own.m; ++r) {
+              int aq = 0, ar = 0;
+              for (int z = 0; z < dev.m; ++z) {
+                if (dev.idx[z] == own.idx[q]) aq = z;
+                if (dev.idx[z] == own.idx[r]) ar = z;
+              }
+              dev.h[aq][ar] += own.h[q][r];
+            }
+          }
+        } else if (sl.var >= 0) {
+          dev.idx[dev.m] = sl.var;
+          dev.d[dev.m] = 1.0;
+          ++dev.m;
+        }
+        const double x = wrap(sl.theta + sl.offset[k] - st_.phi[t]);
+        const double lo = om + x, hi = om - x;
+        add_function(dev, w * (1.0 / hi - 1.0 / lo), w * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
+      }
+    }
+    for (const Node& nd : pb_.node) {
+      if (mu == 0.0 || nd.var < 0 || nd.boundary) continue;
+      const Vec2 off = nd.p - nd.q;
+      const double w = mu * force_ * nd.r, slack = nd.r * nd.r - dot(off, off);
+      const double sc = scale_[nd.var];
+      const std::size_t v = static_cast<std::size_t>(nd.var);
+      g_[v] += 2.0 * w * dot(off, nd.u) / slack * sc;
+      g_[v + 1] += 2.0 * w * cross(nd.u, off) / slack * sc;
+      // In the node's basis (u, u⊥): off = (ou, ow).
+      const Vec2 pu{-nd.u.y, nd.u.x};
+      const double ou = dot(off, nd.u), ow = dot(off, pu);
+      const double a = 2.0 * w / slack, b = 4.0 * w / (slack * slack);
+      h_.add(v, v, (a + b * ou * ou) * sc * sc);
+      h_.add(v + 1, v, b * ou * ow * sc * sc);
+      h_.add(v + 1, v + 1, (a + b * ow * ow) * sc * sc);
+    }
+    return phi;
+  }
+
+  // The largest scaled gradient entry of a free unknown, and the largest wrong-signed
+  // multiplier: an active box holds θ if ∂E/∂θ pushes against it; an active disc holds its
+  // position if the energy falls outward (its slots on a bound turning with the chord).
+  void residuals(double& pg, std::size_t& pg_at, double& wrong, std::size_t& wrong_at) {
+    slot_wrong_.assign(pb_.slot.size(), 0.0);
+    node_wrong_.assign(n_, 0.0);
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Node& nd = pb_.node[i];
+      auto see = [&](int v) {
+        if (v >= 0 && std::abs(g_[v]) > pg) {
+          pg = std::abs(g_[v]);
+          pg_at = i;
+        }
+      };
+      for (int s : {nd.in, nd.out}) {
+        if (s >= 0) see(pb_.slot[s].var);
+      }
+      if (nd.var >= 0) {
+        see(nd.var);
+        if (!nd.boundary) see(nd.var + 1);
+      }
+      for (int s : {nd.in, nd.out}) {
+        if (s < 0 || pb_.slot[s].active < 0) continue;
+        slot_wrong_[s] = pb_.slot[s].sign * raw_.slot[s];
+        if (slot_wrong_[s] > wrong) {
+          wrong = slot_wrong_[s];
+          wrong_at = i;
+        }
+      }
+      if (!nd.boundary) continue;
+      node_wrong_[i] = outward(i);
+      if (node_wrong_[i] > wrong) {
+        wrong = node_wrong_[i];
+        wrong_at = i;
+      }
+    }
+  }
+
+  // ∂E/∂p at node i with the directions on a bound at its chords turning with them.
+  Vec2 force(std::size_t i) const {
+    Vec2 total = raw_.node[i];
+    for (int side = 0; side < 2; ++side) {
+      if (!pb_.closed && (side == 0 ? i == 0 : i + 1 == n_)) continue;
+      const std::size_t s = side == 0 ? (i ? i - 1 : n_ - 1) : i;
+      const std::size_t a = s, b = pb_.next(s);
+      const Vec2 c = pb_.node[b].p - pb_.node[a].p;
+      const Vec2 dphi = (side == 1 ? -1.0 : 1.0) / dot(c, c) * Vec2{-c.y, c.x};
+      for (int sk : {pb_.node[a].out, pb_.node[b].in}) {
+        const Slot& sl = pb_.slot[sk];
+        if (sl.active >= 0 && sl.span[sl.active] == s) total += raw_.slot[sk] * dphi;
+      }
+    }
+    return total;
+  }
+
+  // The scaled derivative of E as node i moves away from its centre (0 at the centre).
+  double outward(std::size_t i) const {
+    const Node& nd = pb_.node[i];
+    const Vec2 off = nd.p - nd.q;
+    const double d = norm(off);
+    return d > 0.0 ? dot(force(i), off) / d * nd.scale : 0.0;
+  }
+
+  // The full step's move of a free position.
+  Vec2 displacement(const Node& nd) const {
+    const double a = step_[nd.var] * scale_[nd.var], b = step_[nd.var + 1] * scale_[nd.var + 1];
+    return a * nd.u + b * Vec2{-nd.u.y, nd.u.x};
+  }
+
+  bool hold_pushed_out() {
+    bool any = false;
+    for (std::size_t i = 0; i < n_; ++i) {
+      Node& nd = pb_.node[i];
+      if (nd.var < 0 || nd.boundary) continue;
+      const Vec2 off = nd.p - nd.q;
+      const Vec2 d = displacement(nd);
+      if (norm(off) < nd.r * (1.0 - 1e-12) || dot(off, d) <= 0.0) continue;
+      nd.p = nd.q + (nd.r / norm(off)) * off;
+      nd.boundary = true;
+      held_[i] = 1;
+      any = true;
+    }
+    return any;
+  }
+
+  // Frees every constraint whose multiplier has the wrong sign by more than `target`.
+  bool release(double target) {
+    bool any = false;
+    for (std::size_t k = 0; k < pb_.slot.size(); ++k) {
+      if (slot_wrong_[k] > target) {
+        pb_.slot[k].active = -1;
+        any = true;
+      }
+    }
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (node_wrong_[i] > target && !held_[i]) {
+        pb_.node[i].boundary = false;
+        any = true;
+      }
+    }
+    return any;
+  }
+
+  // The Newton step on the scaled unknowns, shifted until the matrix is positive definite.
+  void newton(std::span<const std::pair<std::size_t, double>> pins = {}) {
+    step_.assign(g_.size(), 0.0);
+    for (std::size_t k = 0; k < g_.size(); ++k) step_[k] = -g_[k];
+    BorderedBand* h = &h_;
+    if (!pins.empty()) {
+      hp_ = h_;
+      for (const auto& [i, v] : pins) hp_.pin(i, v, step_);
+      h = &hp_;
+    }
+    double dmax = 0.0;
+    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    const double min_pivot = kMinPivot * std::max(dmax, gscale_);
+    shift_ = 0.0;
+    bool factored = false;
+    for (int tries = 0; tries < 40 && !factored; ++tries) {
+      factored = h->factor(shift_, min_pivot);
+      if (!factored) shift_ = shift_ == 0.0 ? 1e-10 * std::max(dmax, gscale_) : shift_ * 10.0;
+    }
+    // (Not factored: the matrix is not finite; a gradient step, which the line search rejects
+    // if it does not help.)
+    if (factored) h->solve(step_);
+    slope_ = 0.0;
+    for (std::size_t k = 0; k < g_.size(); ++k) slope_ += g_[k] * step_[k];
+  }
+
+  // How far along the step (as a fraction) the first free position reaches its circle.
+  double to_circle() const {
+    double t = HUGE_VAL;
+    for (const Node& nd : pb_.node) {
+      if (nd.var < 0 || nd.boundary) continue;
+      const Vec2 d = displacement(nd);
+      const Vec2 off = nd.p - nd.q;
+      const double qa = dot(d, d), qb = dot(off, d), qc = dot(off, off) - nd.r * nd.r;
+      if (qa == 0.0) continue;
+      t = std::min(t, (-qb + std::sqrt(std::max(0.0, qb * qb - qa * qc))) / qa);
+    }
+    return t;
+  }
+
+  // The point t along the step: directions and positions moved, positions leaving their disc
+  // put on its circle (activated), the directions settled into their boxes.
+  bool move(double t, double mu) {
+    trial_ = pb_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      Node& nd = trial_.node[i];
+      for (int s : {nd.in, nd.out}) {
+        if (s >= 0 && trial_.slot[s].var >= 0) {
+          const int v = trial_.slot[s].var;
+          trial_.slot[s].theta = pb_.slot[s].theta + t * step_[v] * scale_[v];
+        }
+      }
+      if (nd.var < 0) continue;
+      if (nd.boundary) {
+        const Vec2 u = (nd.p - nd.q) / nd.r;
+        const double dt = t * step_[nd.var] * scale_[nd.var];
+        nd.p = nd.q + nd.r * Vec2{u.x * std::cos(dt) - u.y * std::sin(dt),
+                                  u.y * std::cos(dt) + u.x * std::sin(dt)};
+      } else {
+        nd.p = nd.p + t * displacement(nd);
+        const Vec2 off = nd.p - nd.q;
+        if (mu > 0.0 && norm(off) >= nd.r) return false;
+        if (norm(off) >= nd.r * (1.0 - 1e-12)) {
+          nd.p = nd.q + (nd.r / norm(off)) * off;
+          nd.boundary = true;
+        }
+      }
+    }
+    chord_angles(trial_, tst_);
+    return settle(trial_, tst_, mu == 0.0);
+  }
+
+  Problem& pb_;
+  State& st_;
+  std::size_t n_, ns_;
+  double force_ = 0.0, torque_ = 0.0;  // the barrier's scales
+  double held_weight_ = 0.0;           // the exact phase's barrier weight on position bounds
+  double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
+  int max_iterations_ = 200;
+  std::vector<double> scale_, g_, step_, slot_wrong_, node_wrong_;
+  std::vector<char> held_;
+  BorderedBand h_, hp_;
+  Raw raw_;
+  Problem trial_;
+  State tst_;
+  double shift_ = 0.0, slope_ = 0.0;
+};
+
+}  // namespace
+
+bool has_data_balls(const FitInput& input) {
+  return std::any_of(input.radii.begin(), input.radii.end(), [](double r) { return r != 0.0; });
+}
+
+void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
+                    FitResult& out, MinEnergyReport* report) {
+  // The interpolation through the centres: the input's checks, the start, the node model.
+  if (options.method.basis == MinEnergyBasis::kElastic) {
+    std::size_t given = input.points.size();
+    if (input.closed && given >= 2 && coincident(input.points[0], input.points[given - 1])) {
+      --given;
+    }
+    check_radii(input, given);
+    throw Error(ErrorCode::kInvalidArgument,
+                "data balls are fitted by the min-energy family and the restricted elastic "
+                "spline, not by the elastic spline (its energy has ridges the data-ball "
+                "optimizer does not handle); use restricted-elastic or radius 0",
+                0);
+  }
+  SpanDirections dirs;
+  MinEnergyOptions start = options;
+  start.best_effort = true;
+  fit_min_energy_at(input, start, ReportLevel::kNone, out, nullptr, nullptr, &dirs);
+  const std::size_t n = out.points.size();
+  Problem pb;
+  pb.m = options.method;
+  pb.omega = options.method.omega;
+  pb.closed = out.closed;
+  pb.node.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Node& nd = pb.node[i];
+    nd.q = nd.p = out.points[i];
+    nd.r = i < input.radii.size() ? input.radii[i] : 0.0;
+  }
+  const std::size_t ns = pb.spans();
+  for (std::size_t s = 0; s < ns; ++s) {
+    const std::size_t j = pb.next(s);
+    const double gap = distance(pb.node[s].q, pb.node[j].q);
+    if (!(gap > pb.node[s].r + pb.node[j].r)) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "the data balls of points " + std::to_string(s) + " and " + std::to_string(j) +
+                      " overlap (centres " + format_number(gap) + " apart, radii " +
+                      format_number(pb.node[s].r) + " and " + format_number(pb.node[j].r) +
+                      "): neighbouring balls must be apart, so that the curve's points stay "
+                      "distinct; make the radii smaller or drop one of the points",
+                  s);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool has_prev = pb.closed || i > 0, has_next = pb.closed || i + 1 < n;
+    double shortest = HUGE_VAL;
+    if (has_prev)
+      shortest = std::min(shortest, distance(pb.node[i].q, pb.node[i ? i - 1 : n - 1].q));
+    if (has_next) shortest = std::min(shortest, distance(pb.node[i].q, pb.node[pb.next(i)].q));
+    pb.node[i].scale = shortest;
+  }
+  // Slots from the node model, started at the interpolation's directions.
+  const std::vector<ResolvedNode> nodes = resolve_nodes(input, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Node& nd = pb.node[i];
+    const ResolvedNode& rn = nodes[i];
+    const bool has_prev = pb.closed || i > 0, has_next = pb.closed || i + 1 < n;
+    const std::size_t prev = i ? i - 1 : n - 1;
+    auto add = [&](bool fixed, Vec2 d) {
+      Slot sl;
+      sl.fixed = fixed;
+      sl.theta = std::atan2(d.y, d.x);
+      pb.slot.push_back(sl);
+      return static_cast<int>(pb.slot.size() - 1);
+    };
+    if (has_prev && has_next && !rn.splits()) {
+      const bool fixed = rn.state.in == SideState::kClamped || rn.state.out == SideState::kClamped;
+      const Vec2 din = dirs[prev][1], dout = dirs[i][0];
+      nd.in = nd.out = add(fixed, din);
+      nd.corner = std::atan2(cross(din, dout), dot(din, dout));
+    } else {
+      if (has_prev) nd.in = add(rn.state.in == SideState::kClamped, dirs[prev][1]);
+      if (has_next) nd.out = add(rn.state.out == SideState::kClamped, dirs[i][0]);
+    }
+  }
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Node& a = pb.node[s];
+    const Node& b = pb.node[pb.next(s)];
+    Slot& so = pb.slot[a.out];
+    so.span[so.nbox] = s;
+    so.offset[so.nbox++] = a.in == a.out ? a.corner : 0.0;
+    Slot& si = pb.slot[b.in];
+    si.span[si.nbox] = s;
+    si.offset[si.nbox++] = 0.0;
+  }
+  State st;
+  chord_angles(pb, st);
+  // Directions the interpolation left on a bound start active there.
+  for (Slot& sl : pb.slot) {
+    if (sl.fixed) continue;
+    for (int b = 0; b < sl.nbox; ++b) {
+      const double dev = wrap(sl.theta + sl.offset[b] - st.phi[sl.span[b]]);
+      if (std::abs(dev) >= pb.omega - 1e-12) {
+        sl.active = b;
+        sl.sign = dev > 0 ? 1 : -1;
+        break;
+      }
+    }
+  }
+  settle(pb, st);
+
+  // Newton over the directions and positions: first with a barrier that keeps the positions
+  // inside their discs (no choice of active discs, which took one Newton step per disc), then
+  // with the discs the barrier pressed against as constraints (the exact optimum).
+  Solver solver(pb, st, options);
+  Outcome res = solver.barrier_phase();
+  solver.cross_over();
+  const Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
+  res.iterations += exact.iterations;
+  res.converged = exact.converged;
+  res.stalled = exact.stalled;
+  res.residual = exact.residual;
+  res.worst = exact.worst;
+  const int iterations = res.iterations;
+  const bool converged = res.converged,
+             at_precision = !converged && res.stalled && res.residual <= kConditioningResidual;
+  const double residual = res.residual;
+  const std::size_t worst = res.worst;
+  if (!converged && !at_precision && !options.best_effort) {
+    throw Error(ErrorCode::kNotConverged,
+                "the data-ball optimizer stopped after " + std::to_string(iterations) +
+                    " iterations with a KKT residual of " + format_number(residual) +
+                    " (relative, largest at this point), above the tolerance " +
+                    format_number(options.tolerance),
+                worst);
+  }
+
+  // The curve: the interpolation through the chosen positions, from the optimum's directions.
+  SpanDirections best(ns);
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Node& a = pb.node[s];
+    const Node& b = pb.node[pb.next(s)];
+    const double o = pb.slot[a.out].theta + (a.in == a.out ? a.corner : 0.0);
+    best[s] = {Vec2{std::cos(o), std::sin(o)},
+               Vec2{std::cos(pb.slot[b.in].theta), std::sin(pb.slot[b.in].theta)}};
+  }
+  FitInput moved = input;
+  moved.radii.clear();
+  for (std::size_t i = 0; i < n; ++i) moved.points[i] = pb.node[i].p;
+  if (moved.points.size() > n) moved.points[n] = pb.node[0].p;  // a closed curve's repeat
+  MinEnergyReport rep;
+  fit_min_energy_at(moved, options, level, out, &rep, &best, nullptr);
+  std::vector<std::size_t> active;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (pb.node[i].r > 0.0 && pb.node[i].boundary) active.push_back(i);
+  }
+  const char* status = converged      ? "converged"
+                       : at_precision ? "conditioning_limit"
+                                      : "iteration_limit";
+  out.method_report["balls"] = {{"count", std::count_if(pb.node.begin(), pb.node.end(),
+                                                        [](const Node& nd) { return nd.r > 0.0; })},
+                                {"active", active},
+                                {"iterations", iterations},
+                                {"kkt_residual", residual},
+                                {"status", status}};
+  out.method_report["energy"] = rep.energy;
+  if (out.solver) {
+    out.solver->iterations = iterations + out.solver->iterations;
+    out.solver->residual = std::max(residual, out.solver->residual);
+    if (!converged) {
+      out.solver->status =
+          at_precision ? SolverStatus::kConditioningLimit : SolverStatus::kIterationLimit;
+    }
+  }
+  if (report) *report = std::move(rep);
+}
+
+}  // namespace fairspline::detail

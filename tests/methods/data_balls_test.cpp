@@ -1,0 +1,457 @@
+// Data balls (src/methods/data_balls.cpp): the minimal-energy curve through discs. Checked
+// against what it must be, from outside the optimizer: r = 0 is interpolation bit for bit; the
+// returned positions satisfy the KKT conditions, recomputed here from the curve's own end
+// directions with span_derivatives (no force left at an inactive ball, only an outward-falling
+// radial one at an active ball); no lower energy is found by a derivative-free search over the
+// positions; noisy samples of known curves give the known curve's bending energy.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "detail/ball_energy.hpp"
+#include "fairspline/error.hpp"
+#include "fairspline/methods/min_energy.hpp"
+#include "fairspline/registry.hpp"
+
+namespace fairspline {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+FitResult fit_balls(const std::string& method, const FitInput& in,
+                    const nlohmann::json& options = nlohmann::json::object(),
+                    ReportLevel level = ReportLevel::kBasic) {
+  return fit(method, in, options, FitOptions{.level = level});
+}
+
+// The unit end directions of span s: the first and last cubics of its pieces.
+std::pair<Vec2, Vec2> span_directions(const FitResult& r, std::size_t s) {
+  const CubicBezier* first = nullptr;
+  const CubicBezier* last = nullptr;
+  for (const Segment& g : r.spline.segments) {
+    if (g.span != s) continue;
+    if (!first) first = &g.bezier;
+    last = &g.bezier;
+  }
+  auto unit = [](Vec2 v) { return v / norm(v); };
+  const Vec2 a = first->p[1] - first->p[0], b = last->p[3] - last->p[2];
+  return {unit(norm(a) > 0 ? a : first->p[2] - first->p[0]),
+          unit(norm(b) > 0 ? b : last->p[3] - last->p[1])};
+}
+
+BasicCurveMethod basis_of(const std::string& method, const nlohmann::json& options) {
+  BasicCurveMethod m;
+  if (method == "restricted-elastic") m.basis = MinEnergyBasis::kRestrictedElastic;
+  if (method == "cond-g2") m.basis = MinEnergyBasis::kCondG2;
+  const std::string b = options.value("basis", std::string());
+  if (b == "jaklic-zagar") m.basis = MinEnergyBasis::kJaklicZagar;
+  if (b == "yong-cheng") m.basis = MinEnergyBasis::kYongCheng;
+  m.lambda = options.value("lambda", 1.0);
+  m.omega = BasicCurveMethod::default_omega(m.basis);
+  return m;
+}
+
+struct Kkt {
+  double inactive = 0.0;    // largest |force| at an inactive ball (relative)
+  double tangential = 0.0;  // largest tangential force at an active ball (relative)
+  double inward = 0.0;      // largest force pulling an active ball inward (relative)
+  double outside = 0.0;     // largest |p − q| − r over r
+  std::size_t active = 0;
+};
+
+// The energy's force on each position at the returned directions (envelope: the directions are
+// optimal for the positions), in units of the solver's stopping test: |∂E/∂p|·ℓ / max(1/L).
+Kkt kkt_of(const FitResult& r, const FitInput& in, const BasicCurveMethod& m) {
+  const std::size_t n = r.points.size(), spans = r.closed ? n : n - 1;
+  std::vector<Vec2> force(n);
+  double gscale = 0.0;
+  for (std::size_t s = 0; s < spans; ++s) {
+    const std::size_t j = s + 1 == n ? 0 : s + 1;
+    const Vec2 c = r.points[j] - r.points[s];
+    gscale = std::max(gscale, 1.0 / distance(in.points[j], in.points[s]));
+    const auto [out, inn] = span_directions(r, s);
+    const double phi = std::atan2(c.y, c.x);
+    const double a = std::remainder(std::atan2(out.y, out.x) - phi, 2 * kPi);
+    const double b = std::remainder(std::atan2(inn.y, inn.x) - phi, 2 * kPi);
+    const detail::SpanDerivatives d = detail::span_derivatives(basic_energy(m, a, b), c);
+    force[s] -= Vec2{d.g[2], d.g[3]};
+    force[j] += Vec2{d.g[2], d.g[3]};
+  }
+  Kkt k;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double ri = in.radii[i];
+    if (ri == 0.0) continue;
+    double ell = HUGE_VAL;
+    if (r.closed || i > 0)
+      ell = std::min(ell, distance(in.points[i], in.points[i ? i - 1 : n - 1]));
+    if (r.closed || i + 1 < n) ell = std::min(ell, distance(in.points[i], in.points[(i + 1) % n]));
+    const Vec2 off = r.points[i] - in.points[i];
+    const Vec2 f = force[i] * (ell / gscale);
+    k.outside = std::max(k.outside, norm(off) / ri - 1.0);
+    if (norm(off) >= ri * (1 - 1e-9)) {
+      ++k.active;
+      const Vec2 u = off / norm(off);
+      k.tangential = std::max(k.tangential, std::abs(cross(u, f)));
+      k.inward = std::max(k.inward, dot(f, u));
+    } else {
+      k.inactive = std::max(k.inactive, norm(f));
+    }
+  }
+  return k;
+}
+
+std::vector<Point> noisy(std::vector<Point> p, double amplitude, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> angle(0.0, 2 * kPi), radius(0.0, 1.0);
+  for (Point& q : p) {
+    const double a = angle(rng), d = amplitude * std::sqrt(radius(rng));
+    q = q + Vec2{d * std::cos(a), d * std::sin(a)};
+  }
+  return p;
+}
+
+std::vector<Point> circle(std::size_t n, double radius) {
+  std::vector<Point> p(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = 2 * kPi * static_cast<double>(i) / static_cast<double>(n);
+    p[i] = {radius * std::cos(t), radius * std::sin(t)};
+  }
+  return p;
+}
+
+TEST(DataBalls, RadiusZeroIsInterpolationBitForBit) {
+  FitInput in;
+  in.points = noisy(circle(30, 2.0), 0.1, 1);
+  in.closed = true;
+  for (const char* method : {"quasi-elastic", "cond-g2", "restricted-elastic", "elastic"}) {
+    const FitResult plain = fit_balls(method, in);
+    FitInput zero = in;
+    zero.radii.assign(in.points.size(), 0.0);
+    const FitResult balls = fit_balls(method, zero);
+    ASSERT_EQ(plain.spline.segments.size(), balls.spline.segments.size()) << method;
+    for (std::size_t s = 0; s < plain.spline.segments.size(); ++s) {
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_EQ(plain.spline.segments[s].bezier.p[k].x, balls.spline.segments[s].bezier.p[k].x);
+        EXPECT_EQ(plain.spline.segments[s].bezier.p[k].y, balls.spline.segments[s].bezier.p[k].y);
+      }
+    }
+    EXPECT_FALSE(balls.method_report.contains("balls")) << method;
+  }
+}
+
+TEST(DataBalls, BadRadiiAreRefusedNamingThePoint) {
+  FitInput in;
+  in.points = {{0, 0}, {1, 1}, {2, 0}, {3, 1}};
+  auto code_at = [&](std::vector<double> radii, const std::string& method, ErrorCode& code) {
+    FitInput c = in;
+    c.radii = std::move(radii);
+    try {
+      fit_balls(method, c);
+    } catch (const Error& e) {
+      code = e.code();
+      return e.index().value_or(999);
+    }
+    return std::size_t{12345};
+  };
+  ErrorCode code{};
+  EXPECT_EQ(code_at({0, -0.1, 0, 0}, "quasi-elastic", code), 1u);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_EQ(code_at({0, 0, NAN, 0}, "quasi-elastic", code), 2u);
+  EXPECT_EQ(code, ErrorCode::kNonFinite);
+  EXPECT_EQ(code_at({0, 0, INFINITY, 0}, "cond-g2", code), 2u);
+  EXPECT_EQ(code, ErrorCode::kNonFinite);
+  code_at({0, 0.1}, "quasi-elastic", code);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  // Neighbouring balls that overlap: points 1 and 2 are √2 apart.
+  EXPECT_EQ(code_at({0, 0.8, 0.7, 0}, "quasi-elastic", code), 1u);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  // Methods that interpolate refuse a ball instead of ignoring it.
+  EXPECT_EQ(code_at({0, 0.1, 0, 0}, "li-strain", code), 1u);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  EXPECT_EQ(code_at({0, 0.1, 0, 0}, "jaklic-zagar", code), 1u);
+  EXPECT_EQ(code_at({0, 0.1, 0, 0}, "elastic", code), 0u);
+  EXPECT_EQ(code, ErrorCode::kInvalidArgument);
+  // Zero radii are plain interpolation for every method.
+  EXPECT_EQ(code_at({0, 0, 0, 0}, "li-strain", code), 12345u);
+}
+
+TEST(DataBalls, CollinearCapableDataGiveAStraightLine) {
+  FitInput in;
+  in.points = {{0, 0}, {1, 0.1}, {2, -0.1}, {3, 0.12}, {4, -0.05}, {5, 0}};
+  in.radii = {0, 0.15, 0.15, 0.15, 0.15, 0};
+  const FitResult r = fit_balls("quasi-elastic", in);
+  for (const Point& p : r.points) EXPECT_NEAR(p.y, 0.0, 1e-9);
+  EXPECT_NEAR(r.method_report.at("energy").get<double>(), 0.0, 1e-12);
+  EXPECT_EQ(r.method_report.at("balls").at("status"), "converged");
+}
+
+struct Case {
+  std::string method;
+  nlohmann::json options;
+};
+
+std::vector<Case> every_basis() {
+  return {{"quasi-elastic", nlohmann::json::object()},
+          {"cond-g2", {{"lambda", 1.6}}},
+          {"min-energy", {{"basis", "jaklic-zagar"}}},
+          {"min-energy", {{"basis", "yong-cheng"}}},
+          {"restricted-elastic", nlohmann::json::object()}};
+}
+
+TEST(DataBalls, KktConditionsHoldForEveryBasis) {
+  for (const Case& c : every_basis()) {
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+      FitInput in;
+      const bool closed = seed % 2 == 0;
+      in.points = noisy(circle(24, 3.0), 0.25, seed);
+      if (!closed) in.points.resize(18);
+      in.closed = closed;
+      in.radii.assign(in.points.size(), 0.2);
+      if (!closed) in.radii.front() = in.radii.back() = 0.0;
+      const FitResult r = fit_balls(c.method, in, c.options);
+      const Kkt k = kkt_of(r, in, basis_of(c.method, c.options));
+      SCOPED_TRACE(c.method + " " + c.options.dump() + " seed " + std::to_string(seed));
+      EXPECT_LE(k.outside, 1e-12);
+      EXPECT_LE(k.inactive, 1e-8);
+      EXPECT_LE(k.tangential, 1e-8);
+      EXPECT_LE(k.inward, 1e-8);
+      EXPECT_GT(k.active, 0u);
+      EXPECT_EQ(k.active, r.method_report.at("balls").at("active").size());
+    }
+  }
+}
+
+// A derivative-free search over the positions (polar coordinates in each disc, compass steps
+// shrinking to 1e-7 of the radius) with the interpolation's optimum at each: no lower energy.
+double reference_energy(const std::string& method, const FitInput& in, const nlohmann::json& opt) {
+  std::vector<std::size_t> balls;
+  for (std::size_t i = 0; i < in.points.size(); ++i) {
+    if (in.radii[i] > 0) balls.push_back(i);
+  }
+  std::vector<double> rho(balls.size(), 0.0), ang(balls.size(), 0.0);
+  auto energy = [&](const std::vector<double>& rh, const std::vector<double>& an) {
+    FitInput at = in;
+    at.radii.clear();
+    for (std::size_t k = 0; k < balls.size(); ++k) {
+      const double rr = in.radii[balls[k]] * std::clamp(rh[k], 0.0, 1.0);
+      at.points[balls[k]] = in.points[balls[k]] + Vec2{rr * std::cos(an[k]), rr * std::sin(an[k])};
+    }
+    try {
+      return fit(method, at, opt, FitOptions{.level = ReportLevel::kNone})
+          .method_report.at("energy")
+          .get<double>();
+    } catch (const Error&) {
+      return HUGE_VAL;
+    }
+  };
+  double best = energy(rho, ang);
+  // Start from the eight compass directions at half the radius, the best of each ball alone.
+  for (std::size_t k = 0; k < balls.size(); ++k) {
+    for (int q = 0; q < 8; ++q) {
+      std::vector<double> r2 = rho, a2 = ang;
+      r2[k] = 0.5;
+      a2[k] = q * kPi / 4;
+      const double e = energy(r2, a2);
+      if (e < best) {
+        best = e;
+        rho = r2;
+        ang = a2;
+      }
+    }
+  }
+  for (double h = 0.25; h > 1e-7; h *= 0.5) {
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (std::size_t k = 0; k < balls.size(); ++k) {
+        for (int which = 0; which < 2; ++which) {
+          for (double sgn : {-1.0, 1.0}) {
+            std::vector<double> r2 = rho, a2 = ang;
+            (which ? a2[k] : r2[k]) += sgn * h * (which ? 2 * kPi : 1.0);
+            r2[k] = std::clamp(r2[k], 0.0, 1.0);
+            const double e = energy(r2, a2);
+            if (e < best - 1e-15 * std::abs(best)) {
+              best = e;
+              rho = r2;
+              ang = a2;
+              moved = true;
+            }
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+TEST(DataBalls, NoLowerEnergyFoundByABruteForceSearch) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int cases = 0;
+  for (const Case& c : every_basis()) {
+    for (int rep = 0; rep < 3; ++rep) {
+      FitInput in;
+      const std::size_t n = 4 + static_cast<std::size_t>(rep % 2);
+      in.closed = rep == 2;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double t = 2 * kPi * static_cast<double>(i) / static_cast<double>(n + 1);
+        in.points.push_back({3 * std::cos(t) + 0.5 * u(rng), 2 * std::sin(t) + 0.5 * u(rng)});
+      }
+      in.radii.assign(n, 0.0);
+      for (std::size_t i = 0; i < n; ++i) in.radii[i] = (i % 2 == 1 || in.closed) ? 0.3 : 0.0;
+      FitResult r;
+      try {
+        r = fit_balls(c.method, in, c.options, ReportLevel::kNone);
+      } catch (const Error& e) {
+        ASSERT_EQ(e.code(), ErrorCode::kInfeasible) << e.what();
+        continue;
+      }
+      const double e = r.method_report.at("energy").get<double>();
+      const double ref = reference_energy(c.method, in, c.options);
+      EXPECT_LE(e, ref * (1 + 1e-9) + 1e-12) << c.method << " " << c.options.dump() << " " << rep;
+      ++cases;
+    }
+  }
+  EXPECT_GE(cases, 12);
+}
+
+// Noisy samples of a curve (noise up to a fifth of the spacing) with the noise amplitude as
+// radius: the bending energy of the fit is near the curve's, where interpolation takes up the
+// noise (9× to 45× the true energy), and the KKT conditions hold. Circle of radius 1:
+// ∫κ² ds = 2π; ellipse 2×1 by quadrature; a clothoid κ = s, s ∈ [0, 2]: s³/3. The open
+// clothoid may straighten within its discs (its sagitta per span is far below the radius), so
+// its energy comes out lower.
+TEST(DataBalls, NoisyCirclesEllipsesAndClothoidsGiveTheTrueBendingEnergy) {
+  struct Shape {
+    std::string name;
+    std::vector<Point> points;
+    bool closed;
+    double energy;
+  };
+  std::vector<Shape> shapes;
+  shapes.push_back({"circle", circle(60, 1.0), true, 2 * kPi});
+  {
+    std::vector<Point> e(80);
+    double bend = 0.0;
+    const int q = 200000;
+    for (int k = 0; k < q; ++k) {  // ∫κ² ds of x = 2cos t, y = sin t
+      const double t = 2 * kPi * (k + 0.5) / q, sp = std::hypot(2 * std::sin(t), std::cos(t));
+      bend += std::pow(2.0 / (sp * sp * sp), 2) * sp * (2 * kPi / q);
+    }
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      const double t = 2 * kPi * static_cast<double>(i) / static_cast<double>(e.size());
+      e[i] = {2 * std::cos(t), std::sin(t)};
+    }
+    shapes.push_back({"ellipse", e, true, bend});
+  }
+  {
+    std::vector<Point> c;
+    const double smax = 2.0;
+    const int q = 400000;
+    double x = 0, y = 0;
+    for (int k = 0; k <= q; ++k) {  // x' = cos(s²/2), y' = sin(s²/2), κ = s
+      const double s = smax * k / q;
+      if (k % (q / 40) == 0) c.push_back({x, y});
+      const double sm = s + 0.5 * smax / q;
+      x += std::cos(0.5 * sm * sm) * smax / q;
+      y += std::sin(0.5 * sm * sm) * smax / q;
+    }
+    shapes.push_back({"clothoid", c, false, smax * smax * smax / 3});
+  }
+  const std::vector<double> within = {0.01, 0.04, 0.25};  // measured: docs/methods/min-energy.md
+  for (std::size_t which = 0; which < shapes.size(); ++which) {
+    const Shape& sh = shapes[which];
+    double spacing = HUGE_VAL;
+    for (std::size_t i = 0; i + 1 < sh.points.size(); ++i) {
+      spacing = std::min(spacing, distance(sh.points[i], sh.points[i + 1]));
+    }
+    const double amp = 0.2 * spacing;
+    FitInput in;
+    in.points = noisy(sh.points, amp, 3);
+    in.closed = sh.closed;
+    const double plain =
+        fit_balls("quasi-elastic", in, {}, ReportLevel::kFull).report->bending_energy.value();
+    in.radii.assign(in.points.size(), amp);
+    if (!sh.closed) in.radii.front() = in.radii.back() = 0.0;
+    const FitResult r = fit_balls("quasi-elastic", in, {}, ReportLevel::kFull);
+    const double bend = r.report->bending_energy.value();
+    SCOPED_TRACE(sh.name);
+    EXPECT_NEAR(bend / sh.energy, 1.0, within[which]) << "interpolation: " << plain / sh.energy;
+    if (std::getenv("FAIRSPLINE_PRINT_BALLS")) {
+      std::printf("%s: balls %.4f, interpolation %.3f of the true bending energy %.6f\n",
+                  sh.name.c_str(), bend / sh.energy, plain / sh.energy, sh.energy);
+    }
+    EXPECT_GT(plain / sh.energy, 1.2);
+    const Kkt k = kkt_of(r, in, BasicCurveMethod{});
+    EXPECT_LE(k.inactive, 1e-8);
+    EXPECT_LE(k.tangential, 1e-8);
+    EXPECT_LE(k.outside, 1e-12);
+  }
+}
+
+TEST(DataBalls, NodeStatesWithBalls) {
+  FitInput in;
+  in.points = noisy(circle(16, 2.0), 0.2, 9);
+  in.points.resize(12);
+  in.radii.assign(12, 0.15);
+  in.states.assign(12, NodeState{});
+  in.states[5] = {SideState::kFree, SideState::kFree};     // a corner, its position shared
+  in.states[0] = {SideState::kFree, SideState::kClamped};  // a clamped start
+  in.out_tangents.assign(12, std::nullopt);
+  in.out_tangents[0] = Vec2{-0.2, 1.0};
+  in.corners_deg.assign(12, 0.0);
+  in.corners_deg[8] = 10.0;
+  const FitResult r = fit_balls("quasi-elastic", in);
+  const Kkt k = kkt_of(r, in, BasicCurveMethod{});
+  EXPECT_LE(k.inactive, 1e-8);
+  EXPECT_LE(k.tangential, 1e-8);
+  EXPECT_LE(k.inward, 1e-8);
+  EXPECT_LE(k.outside, 1e-12);
+  // The clamped start keeps its direction; the corner keeps its angle.
+  const auto [d0, unused] = span_directions(r, 0);
+  EXPECT_NEAR(cross(d0, Vec2{-0.2, 1.0} / norm(Vec2{-0.2, 1.0})), 0.0, 1e-12);
+  const auto [out8, u8] = span_directions(r, 8);
+  const auto [u7, in8] = span_directions(r, 7);
+  EXPECT_NEAR(std::atan2(cross(in8, out8), dot(in8, out8)) * 180 / kPi, 10.0, 1e-9);
+}
+
+TEST(DataBalls, RefitReproducesTheCurve) {
+  FitInput in;
+  in.points = noisy(circle(20, 2.0), 0.2, 4);
+  in.closed = true;
+  in.radii.assign(20, 0.15);
+  const FitResult a = fit_balls("cond-g2", in, {{"lambda", 1.3}});
+  const FitResult b =
+      fit(a.method, refit_input(a), a.options, FitOptions{.level = ReportLevel::kBasic});
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].x, b.points[i].x);
+    EXPECT_EQ(a.points[i].y, b.points[i].y);
+  }
+  EXPECT_EQ(refit_input(a).radii, in.radii);
+}
+
+TEST(DataBalls, ScaleInvariant) {
+  FitInput in;
+  in.points = noisy(circle(20, 2.0), 0.2, 5);
+  in.closed = true;
+  in.radii.assign(20, 0.15);
+  const FitResult a = fit_balls("quasi-elastic", in);
+  FitInput big = in;
+  for (Point& p : big.points) p = p * 0x1p40;
+  for (double& r : big.radii) r *= 0x1p40;
+  const FitResult b = fit_balls("quasi-elastic", big);
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].x * 0x1p40, b.points[i].x);
+    EXPECT_EQ(a.points[i].y * 0x1p40, b.points[i].y);
+  }
+}
+
+}  // namespace
+}  // namespace fairspline
