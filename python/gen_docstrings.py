@@ -50,6 +50,7 @@ SYMBOLS = [
     ("input_states", "decl", "fit.hpp", r"^\s*std::vector<NodeState> states;"),
     ("input_side_tangents", "decl", "fit.hpp", r"^\s*std::vector<std::optional<Vec2>> in_tangents, out_tangents;"),
     ("input_corners_deg", "decl", "fit.hpp", r"^\s*std::vector<double> corners_deg;"),
+    ("input_radii", "decl", "fit.hpp", r"^\s*std::vector<double> radii;"),
     ("side_states", "enum", "fit.hpp", r"^enum class SideState\b"),
     ("input_start_tangent", "decl", "fit.hpp", r"^\s*std::optional<Vec2> start_tangent;"),
     ("point_kind", "decl", "fit.hpp", r"^enum class PointKind\b"),

@@ -198,7 +198,7 @@ std::optional<Vec2> to_vec(py::handle obj, const std::string& what) {
 /// The node model's keyword arguments of fit (None: not given).
 struct NodeModelArgs {
   py::object states = py::none(), in_tangents = py::none(), out_tangents = py::none(),
-             corners_deg = py::none();
+             corners_deg = py::none(), radii = py::none();
 };
 
 fairspline::SideState to_side_state(py::handle s, std::size_t i) {
@@ -250,6 +250,11 @@ void add_node_model(FitInput& in, const NodeModelArgs& a) {
     const DoubleArray c = as_double_array(a.corners_deg, "corners_deg", "a 1-D array");
     if (c.ndim() != 1) invalid("corners_deg must be a 1-D array, got shape " + shape_text(c));
     in.corners_deg.assign(c.data(), c.data() + c.size());
+  }
+  if (!a.radii.is_none()) {
+    const DoubleArray r = as_double_array(a.radii, "radii", "a 1-D array");
+    if (r.ndim() != 1) invalid("radii must be a 1-D array, got shape " + shape_text(r));
+    in.radii.assign(r.data(), r.data() + r.size());
   }
 }
 
@@ -472,10 +477,11 @@ FitResult py_fit(py::handle points, const std::string& method, bool closed,
                  const py::object& end_tangent, const py::object& tangents, const py::object& kinds,
                  const py::object& states, const py::object& in_tangents,
                  const py::object& out_tangents, const py::object& corners_deg,
-                 const py::object& knots, const std::string& report, std::optional<double> accuracy,
-                 bool best_effort, const py::object& options, const py::kwargs& kwargs) {
+                 const py::object& radii, const py::object& knots, const std::string& report,
+                 std::optional<double> accuracy, bool best_effort, const py::object& options,
+                 const py::kwargs& kwargs) {
   const FitInput in = make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds,
-                                 knots, {states, in_tangents, out_tangents, corners_deg});
+                                 knots, {states, in_tangents, out_tangents, corners_deg, radii});
   const json opts = options_json(options, kwargs);
   const fairspline::FitOptions fit_options{.level = fairspline::io::parse_report_level(report),
                                            .accuracy = accuracy,
@@ -643,6 +649,10 @@ Arguments:
          indented(doc::input_side_tangents, 17) + R"(
   corners_deg    )" +
          indented(doc::input_corners_deg, 17) + R"(
+  radii          )" +
+         indented(doc::input_radii, 17) + R"( A 1-D array, one per point;
+                 the chosen positions are the curve's `points` and
+                 `method_report["balls"]` says which discs are active.
   knots          )" +
          indented(doc::input_knots, 17) + R"(
   report         "none" | "basic" | "full" (default). )" +
@@ -938,7 +948,7 @@ PYBIND11_MODULE(_core, m) {
           "The keywords that fit this curve again: fairspline.fit(**curve.request) gives the "
           "same curve bit for bit (points, method, options, and what was given of closed, "
           "alpha, knots, kinds, states, tangents, in_tangents, out_tangents, corners_deg, "
-          "start_tangent, end_tangent, accuracy).")
+          "radii, start_tangent, end_tangent, accuracy).")
       .def(
           "to_curve_ensemble",
           [](const FitResult& r) { return fairspline::io::write_curve_ensemble(r); },
@@ -961,8 +971,9 @@ PYBIND11_MODULE(_core, m) {
         py::arg("tangents") = py::none(), py::arg("kinds") = py::none(),
         py::arg("states") = py::none(), py::arg("in_tangents") = py::none(),
         py::arg("out_tangents") = py::none(), py::arg("corners_deg") = py::none(),
-        py::arg("knots") = py::none(), py::arg("report") = "full", py::arg("accuracy") = py::none(),
-        py::arg("best_effort") = false, py::arg("options") = py::none(), keep(fit_doc()));
+        py::arg("radii") = py::none(), py::arg("knots") = py::none(), py::arg("report") = "full",
+        py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
+        py::arg("options") = py::none(), keep(fit_doc()));
 
   m.def("fit_many", &py_fit_many, py::arg("curves"), py::arg("method") = default_method,
         py::arg("closed") = false, py::arg("alpha") = py::none(),
@@ -980,7 +991,7 @@ PYBIND11_MODULE(_core, m) {
       py::arg("path"),
       keep(std::string(doc::parse_curve_ensemble) +
            "\n\nPython: reads the file at `path` and returns the fit keywords as a dict "
-           "(points, closed, states, in_tangents, out_tangents, corners_deg): "
+           "(points, closed, states, in_tangents, out_tangents, corners_deg, radii): "
            "fairspline.fit(**fairspline.read_curve_ensemble(path), method=...)."));
 
   m.def(

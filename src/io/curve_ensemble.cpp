@@ -1,5 +1,6 @@
 #include "fairspline/io/curve_ensemble.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -21,6 +22,7 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 struct Row {
   double x = 0, y = 0, dir = 0, corner = 0;
   int state = 0;
+  double radius = 0;  // a data ball (state < 0 or > 100; or a three-column file's third number)
 };
 
 std::vector<std::string_view> tokens(std::string_view line) {
@@ -66,12 +68,10 @@ Row parse_row(std::string_view line, std::size_t line_no, std::size_t node) {
   }
   Row r{v[0], v[1], v[2], v[3], 0};
   const double s = v[4];
-  if (s < 0.0 || s > 100.0) {
-    throw Error(ErrorCode::kInvalidArgument,
-                where + "state " + format_double(s) +
-                    " is a data ball (a disc the curve passes through), which fairspline does "
-                    "not fit yet",
-                node);
+  if (s < 0.0 || s > 100.0) {  // a data ball: radius −s, or s − 100 when "marked"
+    r.radius = s < 0.0 ? -s : s - 100.0;
+    r.dir = r.corner = 0.0;  // the fitted direction and the node's angle on the circle
+    return r;
   }
   if (!(s == 0 || s == 1 || s == 3 || s == 5 || s == 7)) {
     throw Error(ErrorCode::kParseError,
@@ -88,6 +88,7 @@ Row parse_row(std::string_view line, std::size_t line_no, std::size_t node) {
 
 FitInput parse_curve_ensemble(std::string_view text) {
   std::vector<Row> rows;
+  std::vector<std::size_t> columns;
   std::size_t line_no = 0;
   while (!text.empty()) {
     const std::size_t nl = text.find('\n');
@@ -97,9 +98,26 @@ FitInput parse_curve_ensemble(std::string_view text) {
     if (!line.empty() && line.front() == '#') continue;
     if (tokens(line).empty()) continue;
     rows.push_back(parse_row(line, line_no, rows.size()));
+    columns.push_back(tokens(line).size());
   }
   if (rows.empty()) {
     throw Error(ErrorCode::kTooFewPoints, "the Curve Ensemble file has no nodes");
+  }
+  // Three numbers on every line: Curve Ensemble's data-ball file, "x y r" (its DIR column,
+  // the other reading, is not used for regular nodes anyway).
+  if (std::all_of(columns.begin(), columns.end(), [](std::size_t c) { return c == 3; })) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (!(rows[i].dir >= 0.0)) {
+        throw Error(ErrorCode::kInvalidArgument,
+                    "node " + std::to_string(i) +
+                        ": the radius of a data ball (the third number) "
+                        "is negative: " +
+                        format_double(rows[i].dir),
+                    i);
+      }
+      rows[i].radius = rows[i].dir;
+      rows[i].dir = 0.0;
+    }
   }
   FitInput in;
   const int first = rows.front().state, last = rows.back().state;
@@ -139,6 +157,9 @@ FitInput parse_curve_ensemble(std::string_view text) {
         in.states.push_back({F, F});
         break;
     }
+  }
+  if (std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.radius != 0.0; })) {
+    for (const Row& r : rows) in.radii.push_back(r.radius);
   }
   if (any_in) in.in_tangents = std::move(ins);
   if (any_out) in.out_tangents = std::move(outs);
@@ -198,6 +219,20 @@ std::string write_curve_ensemble(const FitResult& result) {
       corner = std::atan2(cross(d_in, d_out), dot(d_in, d_out)) / kDeg;
     } else {  // as given, not through radians
       corner = i < request.corners_deg.size() ? request.corners_deg[i] : node.corner / kDeg;
+    }
+    const double radius = i < request.radii.size() ? request.radii[i] : 0.0;
+    if (radius > 0.0) {
+      // A data ball: its centre, state −r, and in the corner column the angle of the chosen
+      // position from the centre (Curve Ensemble's NODEDIR; 0 at the centre).
+      const Vec2 off = result.points[i] - request.points[i];
+      put(request.points[i].x);
+      put(request.points[i].y);
+      put(degrees(fitted));
+      put(off.x == 0.0 && off.y == 0.0 ? 0.0 : degrees(off));
+      put(-radius);
+      put(!result.closed && i + 1 == n ? 0.0 : energy[i]);
+      out += '\n';
+      continue;
     }
     put(result.points[i].x);
     put(result.points[i].y);

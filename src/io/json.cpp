@@ -794,6 +794,11 @@ std::string summary_table(const FitResult& result) {
   } else {
     rows.emplace_back("report", "not computed");
   }
+  if (const auto b = result.method_report.find("balls"); b != result.method_report.end()) {
+    rows.emplace_back("data balls", std::to_string(b->at("active").size()) + " of " +
+                                        b->at("count").dump() + " on their circle (" +
+                                        b->at("status").get<std::string>() + ")");
+  }
   std::size_t width = 0;
   for (const auto& [k, v] : rows) width = std::max(width, k.size());
   std::string out;

@@ -240,6 +240,16 @@ std::string write_svg(const FitResult& r, const SvgOptions& opt) {
     }
   }
   for (const Point& p : r.points) box.add(p);
+  // Data balls: the discs around the request's points (the centres).
+  const FitInput request = refit_input(r);
+  const bool balls = opt.points && !request.radii.empty();
+  if (balls) {
+    for (std::size_t i = 0; i < request.radii.size() && i < request.points.size(); ++i) {
+      const double rad = request.radii[i];
+      box.add(request.points[i] - Vec2{rad, rad});
+      box.add(request.points[i] + Vec2{rad, rad});
+    }
+  }
   if (box.empty()) box = Box{0.0, 0.0, 1.0, 1.0};
   const double extent = std::max(box.xmax - box.xmin, box.ymax - box.ymin);
   std::vector<Tooth> teeth;
@@ -333,6 +343,17 @@ std::string write_svg(const FitResult& r, const SvgOptions& opt) {
         "<path class=\"curve\" fill=\"none\" stroke=\"#111111\" stroke-width=\"2\" "
         "stroke-linejoin=\"round\" stroke-linecap=\"round\" d=\"" +
         d + "\"/>\n";
+  }
+
+  if (balls) {
+    out += "<g class=\"balls\" fill=\"#d62728\" fill-opacity=\"0.08\" stroke=\"#d62728\" "
+           "stroke-opacity=\"0.5\" stroke-width=\"1\">\n";
+    for (std::size_t i = 0; i < request.radii.size() && i < request.points.size(); ++i) {
+      if (!(request.radii[i] > 0.0)) continue;
+      out += "<circle cx=\"" + X(request.points[i]) + "\" cy=\"" + Y(request.points[i]) +
+             "\" r=\"" + px(request.radii[i] * s) + "\"/>\n";
+    }
+    out += "</g>\n";
   }
 
   if (opt.points && !r.points.empty()) {

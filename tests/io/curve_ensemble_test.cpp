@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "fairspline/energy.hpp"
@@ -160,6 +161,54 @@ TEST(CurveEnsemble, WritesKindsAsStatesAndAQuarterOfTheBendingEnergy) {
   EXPECT_EQ(be[4], 0.0) << "the last node of an open curve starts no piece";
 }
 
+TEST(CurveEnsemble, DataBallsAsCurveEnsembleWritesThem) {
+  // Rows with state −r (and a "marked" ball, 100 + r) are balls at their centres; the corner
+  // column (the node's angle on the circle) is not an input: the position is optimized.
+  const FitInput in = parse_curve_ensemble(
+      "#Curve Ensemble Text File\n0 0 0 0 7 0 \n10 10 0 0 -5 0 \n20 0 14.5 -90 -1.5 0.3 \n"
+      "30 9 0 0 102 0 \n40 0 0 0 7 0 \n");
+  EXPECT_FALSE(in.closed);
+  EXPECT_EQ(in.radii, (std::vector<double>{0, 5, 1.5, 2, 0}));
+  EXPECT_EQ(in.points[2], (Point{20, 0}));
+  EXPECT_EQ(in.states[2], (NodeState{SideState::kRegular, SideState::kRegular}));
+  EXPECT_TRUE(in.corners_deg.empty());
+  // Curve Ensemble's three-column data-ball file: x y r on every line (closed, as it loads it).
+  const FitInput three = parse_curve_ensemble("# balls\n10 10 5\n60 30 12\n90 -20 0\n");
+  EXPECT_TRUE(three.closed);
+  EXPECT_EQ(three.radii, (std::vector<double>{5, 12, 0}));
+  EXPECT_EQ(three.points[1], (Point{60, 30}));
+}
+
+TEST(CurveEnsemble, DataBallsSurviveAWriteAndARead) {
+  FitInput in;
+  in.points = {{0, 0}, {3, 1.5}, {6, -0.5}, {9, 1}, {12, 0}};
+  in.radii = {0, 0.6, 0.6, 0.6, 0};
+  const FitResult r = fit("quasi-elastic", in, {}, FitOptions{.level = ReportLevel::kBasic});
+  const std::string text = write_curve_ensemble(r);
+  const FitInput back = parse_curve_ensemble(text);
+  EXPECT_EQ(back.points, in.points);  // the centres
+  EXPECT_EQ(back.radii, in.radii);
+  EXPECT_FALSE(back.closed);
+  // The corner column of a ball holds the angle of the chosen position from its centre.
+  std::istringstream lines(text);
+  std::string line;
+  std::getline(lines, line);
+  for (std::size_t i = 0; i < 5 && std::getline(lines, line); ++i) {
+    std::istringstream row(line);
+    double x, y, dir, corner, state;
+    row >> x >> y >> dir >> corner >> state;
+    if (in.radii[i] == 0.0) continue;
+    EXPECT_EQ(state, -in.radii[i]);
+    const Vec2 off = r.points[i] - in.points[i];
+    if (norm(off) > 0) {
+      EXPECT_NEAR(corner, std::atan2(off.y, off.x) * 180 / std::numbers::pi, 1e-12) << i;
+    }
+  }
+  // Fitting the read-back file gives the same curve.
+  const FitResult again = fit("quasi-elastic", back, {}, FitOptions{.level = ReportLevel::kBasic});
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(again.points[i], r.points[i]);
+}
+
 TEST(CurveEnsemble, ErrorsNameTheLineAndTheNode) {
   using testing::expect_error;
   expect_error(ErrorCode::kParseError, [] { parse_curve_ensemble("0 0\n1 x\n"); },
@@ -169,8 +218,8 @@ TEST(CurveEnsemble, ErrorsNameTheLineAndTheNode) {
   expect_error(ErrorCode::kParseError, [] { parse_curve_ensemble("0 0\n1 1 0 0 4\n"); },
                {"state 4 is not a Curve Ensemble node state"});
   const Error ball = expect_error(ErrorCode::kInvalidArgument,
-                                  [] { parse_curve_ensemble("# x\n0 0 0 0 7\n5 5 0 0 -2\n"); },
-                                  {"line 3 (node 1)", "data ball"});
+                                  [] { parse_curve_ensemble("0 0 1\n5 5 -2\n9 0 0\n"); },
+                                  {"node 1", "radius", "negative"});
   EXPECT_EQ(ball.index(), 1u);
   expect_error(ErrorCode::kNonFinite, [] { parse_curve_ensemble("0 0\n1 nan\n2 0\n"); },
                {"node 1"});

@@ -93,6 +93,39 @@ await run(async ({ page, url }) => {
   check(await page.locator('[data-testid="tangent-1"]').count() === 1, 'kinds and tangents survive a reload (URL state)');
   await waitForPieces(page, 'quasi-elastic', 4);
 
+  // ---- a data ball: the curve passes through a disc, at the position the fit chose ----
+  await page.click('[data-testid="point-2"]');
+  check(!(await page.isDisabled('[data-testid="radius"]')), 'the radius control is enabled for a min-energy method');
+  await page.fill('[data-testid="radius"]', '60');
+  await page.locator('[data-testid="radius"]').dispatchEvent('change');
+  await page.locator('[data-testid="ball-2"]').waitFor();
+  await settled();
+  const ballRequest = requests[requests.length - 1];
+  check(ballRequest.radii?.[2] === 60 && ballRequest.radii.filter((r) => r > 0).length === 1,
+    `the request sends the radius of the selected point (${JSON.stringify(ballRequest.radii)})`);
+  const ballFit = await eventually(async () => {
+    const fit = await exported(page);
+    return fit.method_report?.balls ? fit : null;
+  });
+  const chosen = ballFit?.points?.[2];
+  const offset = chosen ? Math.hypot(chosen[0] - FIVE[2][0], chosen[1] - FIVE[2][1]) : NaN;
+  check(offset > 1 && offset <= 60 * (1 + 1e-12),
+    `the curve passes through the disc, not through its centre (${offset.toFixed(2)} from it, radius 60)`);
+  await page.locator('[data-testid="ball-position-2"]').waitFor();
+  check(/data balls 1 of 1/.test(await page.textContent('[data-testid="report"]')), 'the report line says how many balls touch their circle');
+  await page.screenshot({ path: `${out}/editor-ball.png` });
+  await page.reload();
+  await page.locator('[data-testid="ball-2"]').waitFor();
+  check(true, 'a data ball survives a reload (URL state)');
+  await page.click('[data-testid="point-2"]');
+  check(await page.inputValue('[data-testid="radius"]') === '60', 'the radius control shows the selected point\'s radius');
+  await page.fill('[data-testid="radius"]', '0');
+  await page.locator('[data-testid="radius"]').dispatchEvent('change');
+  await settled();
+  check(await page.locator('[data-testid="ball-2"]').count() === 0 && !requests[requests.length - 1].radii,
+    'radius 0 makes it a plain point again');
+  await waitForPieces(page, 'quasi-elastic', 4);
+
   // ---- curvature plot ----
   const kappa = page.locator('[data-testid="kappa-quasi-elastic"]');
   await kappa.waitFor();

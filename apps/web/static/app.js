@@ -31,6 +31,7 @@ const el = {
   svgText: $('export-svg-text'), jsonText: $('export-json-text'), csvText: $('export-csv-text'),
   importText: $('import-text'), importFile: $('import-file'), undo: $('undo'), redo: $('redo'),
   alpha: $('alpha'), alphaNumber: $('alpha-number'), kindBox: $('kind'), kindLabel: $('kind-label'),
+  radius: $('radius'),
   zoomLabel: $('zoom-label'),
 };
 
@@ -38,6 +39,7 @@ const state = {
   points: [],          // [[x, y], ...] in world coordinates
   kinds: [],           // 'smooth' | 'clamped' | 'corner', one per point
   tangents: [],        // arrow [dx, dy] of clamped points (world units; see knotSpan), else null
+  radii: [],           // data-ball radius per point (0: the curve passes through the point)
   closed: false,
   alpha: 0.5,          // knot parameterization exponent (sent as "alpha")
   method: null,
@@ -85,6 +87,7 @@ const snapshot = () => ({
   points: state.points.map(([x, y]) => [x, y]),
   kinds: [...state.kinds],
   tangents: state.tangents.map((t) => (t ? [...t] : null)),
+  radii: [...state.radii],
   closed: state.closed,
 });
 
@@ -101,6 +104,7 @@ function restore(snap) {
   state.points = snap.points;
   state.kinds = snap.kinds;
   state.tangents = snap.tangents;
+  state.radii = snap.radii;
   state.closed = snap.closed;
   el.closed.checked = state.closed;
   state.selected = -1;
@@ -140,6 +144,7 @@ function insertPoint(at, p) {
   state.points.splice(at, 0, p);
   state.kinds.splice(at, 0, 'smooth');
   state.tangents.splice(at, 0, null);
+  state.radii.splice(at, 0, 0);
   state.selected = at;
   forgetErrorIndex();
   changed();
@@ -150,6 +155,7 @@ function removePoint(i) {
   state.points.splice(i, 1);
   state.kinds.splice(i, 1);
   state.tangents.splice(i, 1);
+  state.radii.splice(i, 1);
   state.selected = -1;
   forgetErrorIndex();
   changed();
@@ -221,6 +227,7 @@ function saveHash() {
     data.n = state.kinds.map((k) => KINDS.indexOf(k));
     data.t = state.tangents.map((t) => (t ? t.map(compact) : 0));
   }
+  if (state.radii.some((r) => r > 0)) data.r = state.radii.map(compact);
   history.replaceState(null, '', `#${encodeURIComponent(JSON.stringify(data))}`);
 }
 
@@ -234,6 +241,10 @@ function loadHash() {
     const n = state.points.length;
     state.kinds = Array(n).fill('smooth');
     state.tangents = Array(n).fill(null);
+    state.radii = Array(n).fill(0);
+    if (Array.isArray(data.r) && data.r.length === n && data.r.every((r) => Number.isFinite(r) && r >= 0)) {
+      state.radii = data.r.map(Number);
+    }
     if (Array.isArray(data.n) && Array.isArray(data.t) && data.n.length === n && data.t.length === n) {
       data.n.forEach((k, i) => {
         const kind = KINDS[k] ?? 'smooth';
@@ -453,6 +464,7 @@ function requestBody(method, options) {
     body.kinds = state.kinds;
     body.tangents = state.tangents.map(arrowToTangent);
   }
+  if (state.radii.some((r) => r > 0)) body.radii = state.radii;
   if (options && Object.keys(options).length) body.options = options;
   return body;
 }
@@ -649,11 +661,28 @@ function renderPoints() {
   renderKinds();
 }
 
-/** Corner squares and the tangent arrows of clamped points (the arrow tip is draggable). */
+/**
+ * Corner squares, the tangent arrows of clamped points (the arrow tip is draggable), and the
+ * discs of data balls with the position the fit chose in each (a ring; filled when the curve
+ * touches the disc's circle there).
+ */
 function renderKinds() {
   el.layerKinds.replaceChildren();
   const u = unit();
+  const balls = mainFit?.method_report?.balls;
+  const onCircle = new Set(balls?.active ?? []);
   state.points.forEach(([x, y], i) => {
+    const r = state.radii[i] ?? 0;
+    if (r > 0) {
+      el.layerKinds.append(svg('circle', { cx: x, cy: y, r, class: 'ball', 'data-testid': `ball-${i}` }));
+      const chosen = balls && mainFit.points?.[i];
+      if (chosen) {
+        el.layerKinds.append(svg('circle', {
+          cx: chosen[0], cy: chosen[1], r: 0.6 * POINT_R_PX * u,
+          class: onCircle.has(i) ? 'ball-position active' : 'ball-position', 'data-testid': `ball-position-${i}`,
+        }));
+      }
+    }
     if (state.kinds[i] === 'corner') {
       const h = 1.9 * POINT_R_PX * u;
       el.layerKinds.append(svg('rect', { x: x - h, y: y - h, width: 2 * h, height: 2 * h, class: 'corner', 'data-testid': `corner-${i}` }));
@@ -686,6 +715,8 @@ function renderSelection() {
     r.disabled = !ok || !kinds.includes(r.value);
     r.checked = ok && r.value === state.kinds[i];
   });
+  el.radius.disabled = !ok || !capabilitiesOf(state.method).data_balls;
+  if (document.activeElement !== el.radius) el.radius.value = ok ? String(state.radii[i] ?? 0) : '0';
   el.kindLabel.textContent = ok ? `point ${i}` : 'no point selected';
 }
 
@@ -790,8 +821,10 @@ function renderReport() {
   const timing = mainTiming
     ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms`
     : '';
+  const balls = mainFit?.method_report?.balls;
+  const ballText = balls ? ` · data balls ${balls.active.length} of ${balls.count} on their circle (${balls.status})` : '';
   el.report.textContent = r
-    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${timing}`
+    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${ballText}${timing}`
     : '';
 }
 
@@ -1057,7 +1090,7 @@ function importText(text, source) {
     el.method.value = state.method;
     buildOptionsForm();
   }
-  replacePoints(parsed.points, parsed.kinds);
+  replacePoints(parsed.points, parsed.kinds, parsed.radii);
   // A file gives tangents (derivatives); the editor keeps arrows (see knotSpan).
   if (parsed.tangents) state.tangents = parsed.tangents.map((t, i) => (state.kinds[i] === 'clamped' ? tangentToArrow(t, i) : null));
   fitView();
@@ -1089,10 +1122,11 @@ el.undo.addEventListener('click', undo);
 el.redo.addEventListener('click', redo);
 
 /** Replaces all points and forgets every fit of the old ones. */
-function replacePoints(points, kinds = null) {
+function replacePoints(points, kinds = null, radii = null) {
   state.points = points;
   state.kinds = kinds ?? Array(points.length).fill('smooth');
   state.tangents = Array(points.length).fill(null);
+  state.radii = radii ?? Array(points.length).fill(0);
   state.selected = -1;
   mainFit = null;
   mainError = null;
@@ -1135,6 +1169,16 @@ el.alphaNumber.addEventListener('input', () => {
 });
 el.kindBox.addEventListener('change', (evt) => {
   if (evt.target.name === 'kind') setKind(state.selected, evt.target.value);
+});
+el.radius.addEventListener('change', () => {
+  const i = state.selected;
+  const v = Number(el.radius.value);
+  const ok = el.radius.value.trim() !== '' && Number.isFinite(v) && v >= 0;
+  el.radius.classList.toggle('invalid', !ok);
+  if (!ok || i < 0 || i >= state.points.length || state.radii[i] === v) return;
+  pushHistory();
+  state.radii[i] = v;
+  changed();
 });
 el.polygon.addEventListener('change', () => { state.polygon = el.polygon.checked; renderControlPolygon(); saveHash(); });
 el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderComb(); saveHash(); });

@@ -1,5 +1,6 @@
 // Import of points: CSV (x,y per line, optional header, # comments) or the JSON request of
-// `fairspline fit` ({points, closed, kinds, tangents, alpha, method, options} or a bare array).
+// `fairspline fit` ({points, closed, kinds, tangents, radii, alpha, method, options} or a bare
+// array).
 // Throws Error with a sentence that names the line or the field.
 
 const KINDS = ['smooth', 'clamped', 'corner'];
@@ -41,6 +42,11 @@ function fromJson(text) {
     out.tangents[i] = [...data[key]];
     if (out.kinds) out.kinds[i] = 'clamped';
   }
+  if (data.radii != null) {
+    if (!Array.isArray(data.radii) || data.radii.length !== n) throw new Error(`"radii" must list one radius per point (${n})`);
+    data.radii.forEach((r, i) => { if (typeof r !== 'number' || !Number.isFinite(r) || r < 0) throw new Error(`radii[${i}] is not a radius (a number >= 0)`); });
+    out.radii = [...data.radii];
+  }
   if (data.alpha != null) {
     if (typeof data.alpha !== 'number' || !Number.isFinite(data.alpha)) throw new Error('"alpha" must be a number');
     out.alpha = data.alpha;
@@ -68,7 +74,7 @@ function fromCsv(text) {
   return { points };
 }
 
-/** {points, closed?, kinds?, tangents?, alpha?, method?, options?} from CSV or JSON text. */
+/** {points, closed?, kinds?, tangents?, radii?, alpha?, method?, options?} from CSV or JSON text. */
 export function parseImport(text) {
   const trimmed = text.trim();
   if (!trimmed) throw new Error('nothing to import');
