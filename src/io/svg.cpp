@@ -346,8 +346,9 @@ std::string write_svg(const FitResult& r, const SvgOptions& opt) {
   }
 
   if (balls) {
-    out += "<g class=\"balls\" fill=\"#d62728\" fill-opacity=\"0.08\" stroke=\"#d62728\" "
-           "stroke-opacity=\"0.5\" stroke-width=\"1\">\n";
+    out +=
+        "<g class=\"balls\" fill=\"#d62728\" fill-opacity=\"0.08\" stroke=\"#d62728\" "
+        "stroke-opacity=\"0.5\" stroke-width=\"1\">\n";
     for (std::size_t i = 0; i < request.radii.size() && i < request.points.size(); ++i) {
       if (!(request.radii[i] > 0.0)) continue;
       out += "<circle cx=\"" + X(request.points[i]) + "\" cy=\"" + Y(request.points[i]) +
