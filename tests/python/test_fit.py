@@ -374,9 +374,62 @@ def test_curve_ensemble_files(tmp_path):
     assert np.allclose(refit.segments, curve.segments, atol=1e-7)
     with pytest.raises(fairspline.Error) as err:
         bad = tmp_path / "balls.txt"
-        bad.write_text("0 0 0 0 7\n5 5 0 0 -2\n9 0 0 0 5\n")
+        bad.write_text("0 0 1\n5 5 -2\n9 0 0\n")  # x y r: a negative radius
         fairspline.read_curve_ensemble(str(bad))
     assert err.value.code == "invalid_argument" and err.value.index == 1
+
+
+def noisy_circle(n, noise, seed):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return np.c_[np.cos(t), np.sin(t)] + rng.uniform(-noise, noise, (n, 2)) / math.sqrt(2)
+
+
+def test_data_balls_smooth_a_noisy_circle_within_the_radii():
+    points = noisy_circle(60, 0.02, 4)
+    plain = fairspline.fit(points, closed=True)
+    curve = fairspline.fit(points, closed=True, radii=np.full(60, 0.02))
+    balls = curve.method_report["balls"]
+    assert balls["count"] == 60 and balls["status"] == "converged"
+    assert balls["kkt_residual"] <= 1e-8
+    offsets = np.hypot(*(curve.points - points).T)
+    assert offsets.max() <= 0.02 * (1 + 1e-12)
+    on_circle = np.flatnonzero(offsets >= 0.02 * (1 - 1e-9))
+    assert list(on_circle) == balls["active"]
+    # The true circle's ∫κ² ds is 2π; interpolating the noise costs many times that.
+    assert abs(curve.report["bending_energy"] / (2 * np.pi) - 1) < 0.02
+    assert plain.report["bending_energy"] > 5 * curve.report["bending_energy"]
+    # The request refits the same curve; zero radii are plain interpolation.
+    assert np.array_equal(fairspline.fit(**curve.request).points, curve.points)
+    assert np.array_equal(fairspline.fit(points, closed=True, radii=np.zeros(60)).segments,
+                          plain.segments)
+
+
+def test_data_balls_through_curve_ensemble_files(tmp_path):
+    path = tmp_path / "balls.txt"
+    path.write_text("# x y r\n0 0 0.2\n3 1.5 0.5\n6 -0.5 0.5\n9 1 0.5\n12 0 0.2\n")
+    inputs = fairspline.read_curve_ensemble(str(path))
+    assert inputs["radii"] == [0.2, 0.5, 0.5, 0.5, 0.2]
+    assert inputs["closed"] is True  # as Curve Ensemble loads it
+    inputs["closed"] = False
+    curve = fairspline.fit(**inputs, method="restricted-elastic")
+    text = curve.to_curve_ensemble()
+    rows = [line.split() for line in text.splitlines()[1:]]
+    assert [float(r[4]) for r in rows] == [-0.2, -0.5, -0.5, -0.5, -0.2]
+    assert [[float(r[0]), float(r[1])] for r in rows] == inputs["points"]  # the centres
+
+
+def test_data_ball_errors_name_the_point():
+    points = [(0, 0), (2, 1), (4, 0), (6, 1)]
+    with pytest.raises(fairspline.Error) as err:
+        fairspline.fit(points, radii=[0, 0.5, 0, 0], method="jaklic-zagar")
+    assert err.value.code == "invalid_argument" and err.value.index == 1
+    with pytest.raises(fairspline.Error) as err:
+        fairspline.fit(points, radii=[0, 0.5])
+    assert err.value.code == "invalid_argument"
+    with pytest.raises(fairspline.Error) as err:
+        fairspline.fit(points, radii=np.zeros((4, 2)))
+    assert err.value.code == "invalid_argument"
 
 
 def test_curve_is_callable_comparable_and_shows_itself_in_jupyter():
