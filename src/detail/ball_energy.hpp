@@ -4,8 +4,6 @@
 #pragma once
 
 #include <array>
-#include <span>
-#include <vector>
 
 #include "fairspline/methods/min_energy.hpp"
 #include "fairspline/vec2.hpp"
@@ -23,21 +21,5 @@ struct SpanDerivatives {
 
 /// From E_1 and its derivatives at (α, β) = (θ_i − φ, θ_j − φ) and the chord c (non-zero).
 SpanDerivatives span_derivatives(const BasicEnergy& e1, Vec2 c);
-
-using Block3 = std::array<std::array<double, 3>, 3>;
-
-/// Σ over the spans of a chain of E_1/L, with three unknowns per node (θ, p_x, p_y): the
-/// gradient and the block-tridiagonal Hessian (per node a diagonal block, per span s the block
-/// coupling node s (rows) with node s + 1 (columns); closed: the last span couples the last node
-/// with node 0). θ is the node's absolute direction; the span leaving node i starts at
-/// θ_i + corner[i] (empty corner: 0).
-struct ChainDerivatives {
-  double e = 0.0;
-  std::vector<std::array<double, 3>> g;
-  std::vector<Block3> diag, off;
-};
-ChainDerivatives chain_derivatives(const BasicCurveMethod& m, std::span<const Point> p,
-                                   std::span<const double> theta, std::span<const double> corner,
-                                   bool closed);
 
 }  // namespace fairspline::detail

@@ -452,9 +452,7 @@ class Solver {
     std::vector<double> slack(n_, -1.0);
     for (double mu = 1e-1; mu >= kLastBarrier && total.iterations < max_iterations_; mu *= 0.1) {
       if (mu < 1e-1) measure_scales();
-      // The exact phase keeps the last stage's barrier on the boxes that bound positions
-      // (at least kHeldBarrier): starting at that barrier's optimum, not beside it.
-      held_weight_ = std::max(mu, kHeldBarrier) * torque_;
+      held_weight_ = kHeldBarrier * torque_;
       const Outcome o = run(mu, std::min(kStageIterations, max_iterations_ - total.iterations),
                             std::max(mu, kConditioningResidual * 1e-2) * gscale_);
       total.iterations += o.iterations;

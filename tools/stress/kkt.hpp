@@ -26,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "detail/ball_energy.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/methods/min_energy.hpp"
 #include "fairspline/registry.hpp"
@@ -519,10 +520,127 @@ inline KktResult check_g2_breakpoints(const FitInput& in, const FitResult& r) {
   return out;
 }
 
+/// Data balls: the directions must be optimal for the returned positions (check_min_energy at
+/// them), and the positions for the directions: the energy's force on each position (from the
+/// curve's own end directions, src/detail/ball_energy) vanishes at a ball inside its disc and
+/// is radial, pushing outward, at a ball on its circle. A free direction on a bound of its box
+/// turns with that chord, so its torque (the bound's multiplier) adds to the forces on the
+/// chord's ends; next to a given direction on a bound, or a direction on both of its bounds (a
+/// stencil at 2Ω), the multiplier of a constraint on positions is not known here: those balls
+/// are not checked. Forces are measured as the solver measures them: times the shorter adjacent
+/// chord, over max 1/L. Positions must lie in their discs to the rounding of their coordinates.
+inline KktResult check_balls(const FitInput& in, const FitResult& r, const BasicCurveMethod& m) {
+  FitInput at = in;
+  at.points = r.points;
+  at.radii.clear();
+  KktResult out = check_min_energy(at, r, m);
+  if (!out.checked || !out.pass) return out;
+  const std::size_t n = r.points.size(), spans = r.closed ? n : n - 1;
+  std::vector<std::size_t> first, last;
+  KktResult legs;
+  if (!detail::spans_of(r, n, spans, first, last, legs)) return legs;
+  std::vector<Vec2> force(n), unit_n(spans);
+  std::vector<double> g_out(spans), g_in(spans), al(spans), be(spans), len(spans);
+  double gscale = 0.0;
+  for (std::size_t s = 0; s < spans; ++s) {
+    const std::size_t j = s + 1 == n ? 0 : s + 1;
+    const Vec2 c = r.points[j] - r.points[s];
+    gscale = std::max(gscale, 1.0 / distance(in.points[j], in.points[s]));
+    const Vec2 d0 = detail::start_leg(r.spline.segments[first[s]].bezier);
+    const Vec2 d1 = detail::end_leg(r.spline.segments[last[s]].bezier);
+    const double phi = std::atan2(c.y, c.x);
+    al[s] = std::remainder(std::atan2(d0.y, d0.x) - phi, 2 * std::numbers::pi);
+    be[s] = std::remainder(std::atan2(d1.y, d1.x) - phi, 2 * std::numbers::pi);
+    const fairspline::detail::SpanDerivatives sd =
+        fairspline::detail::span_derivatives(basic_energy(m, al[s], be[s]), c);
+    force[s] -= Vec2{sd.g[2], sd.g[3]};
+    force[j] += Vec2{sd.g[2], sd.g[3]};
+    g_out[s] = sd.g[0], g_in[s] = sd.g[1];
+    len[s] = norm(c);
+    unit_n[s] = Vec2{-c.y, c.x} / len[s];
+  }
+  auto kind = [&](std::size_t i) { return i < in.kinds.size() ? in.kinds[i] : PointKind::kSmooth; };
+  auto fixed = [&](std::size_t i) {
+    return (kind(i) == PointKind::kClamped && i < in.tangents.size() && in.tangents[i]) ||
+           (i == 0 && in.start_tangent) || (!r.closed && i + 1 == n && in.end_tangent);
+  };
+  const double bound = m.omega * (1.0 - 1e-9);
+  // The solver holds a direction's second box (a stencil at 2Ω) by a barrier, which keeps it
+  // a little inside: near it counts as on it.
+  const double near_bound = m.omega * (1.0 - 1e-5);
+  std::vector<char> unchecked(n, 0);
+  auto turn_with = [&](std::size_t s, double torque) {  // θ = φ_s + const
+    const std::size_t j = s + 1 == n ? 0 : s + 1;
+    force[s] -= (torque / len[s]) * unit_n[s];
+    force[j] += (torque / len[s]) * unit_n[s];
+  };
+  auto skip_span = [&](std::size_t s) { unchecked[s] = unchecked[s + 1 == n ? 0 : s + 1] = 1; };
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool has_out = r.closed || i + 1 < n, has_in = r.closed || i > 0;
+    const std::size_t so = i, si = i == 0 ? spans - 1 : i - 1;
+    const bool on_out = has_out && std::abs(al[so]) >= bound;
+    const bool on_in = has_in && std::abs(be[si]) >= bound;
+    const bool tied = has_out && has_in && !(kind(i) == PointKind::kCorner && !fixed(i));
+    if (fixed(i)) {
+      if (on_out) skip_span(so);
+      if (on_in) skip_span(si);
+    } else if (tied) {
+      if ((on_out && std::abs(be[si]) >= near_bound) || (on_in && std::abs(al[so]) >= near_bound)) {
+        skip_span(so), skip_span(si);
+      } else if (on_out || on_in) {
+        turn_with(on_out ? so : si, g_out[so] + g_in[si]);
+      }
+    } else {
+      if (on_out) turn_with(so, g_out[so]);
+      if (on_in) turn_with(si, g_in[si]);
+    }
+  }
+  double worst = 0.0;
+  std::size_t at_node = 0;
+  std::string what;
+  for (std::size_t i = 0; i < n && i < in.radii.size(); ++i) {
+    const double radius = in.radii[i];
+    if (!(radius > 0.0)) continue;
+    double ell = HUGE_VAL;
+    if (r.closed || i > 0)
+      ell = std::min(ell, distance(in.points[i], in.points[i ? i - 1 : n - 1]));
+    if (r.closed || i + 1 < n) ell = std::min(ell, distance(in.points[i], in.points[(i + 1) % n]));
+    const Vec2 off = r.points[i] - in.points[i], f = force[i] * (ell / gscale);
+    const double size = std::max({std::abs(in.points[i].x), std::abs(in.points[i].y),
+                                  std::abs(r.points[i].x), std::abs(r.points[i].y)});
+    const double rounding = 4.0 * detail::kEps * size;
+    double res = 0.0;
+    const char* kind_text = "force at an inactive ball";
+    if (norm(off) > radius * (1.0 + 1e-12) + rounding) {
+      res = HUGE_VAL, kind_text = "position outside its disc";
+    } else if (unchecked[i]) {
+      continue;
+    } else if (norm(off) >= radius * (1.0 - 1e-9) - rounding) {
+      const Vec2 u = off / norm(off);
+      res = std::max(std::abs(cross(u, f)), dot(f, u));
+      kind_text = "tangential or inward force at an active ball";
+    } else {
+      res = norm(f);
+    }
+    if (res > worst) worst = res, at_node = i, what = kind_text;
+  }
+  if (worst > out.residual) {
+    out.residual = worst, out.allowance = 0.0, out.node = at_node;
+    out.pass = worst <= kKktTolerance;
+    if (!out.pass) {
+      out.what = what + " " + std::to_string(worst) + " at point " + std::to_string(at_node);
+    }
+  }
+  return out;
+}
+
 /// The certificate that applies to `r`: min-energy (an omega_deg option), G2 breakpoints (an
 /// option g2 that is on), else nothing checked.
 inline KktResult check_optimum(const FitInput& in, const FitResult& r) {
-  if (const auto m = min_energy_method_of(r)) return check_min_energy(in, r, *m);
+  const bool balls = std::any_of(in.radii.begin(), in.radii.end(), [](double x) { return x > 0; });
+  if (const auto m = min_energy_method_of(r)) {
+    return balls ? check_balls(in, r, *m) : check_min_energy(in, r, *m);
+  }
   if (r.options.is_object() && r.options.value("g2", false)) return check_g2_breakpoints(in, r);
   return {};
 }

@@ -65,6 +65,7 @@ struct Args {
   int max_saved = 50;  ///< inputs saved per variant and outcome
   double hang_seconds = 60.0;
   std::string summary_json;
+  double balls = 0.0;  ///< share of cases with data balls (methods that fit them)
 };
 
 [[noreturn]] void usage(const std::string& why) {
@@ -73,7 +74,7 @@ struct Args {
                "usage: fairspline_stress [--seed S] [--count N] [--start K] [--methods a,b,...]\n"
                "         [--threads T] [--out DIR] [--max-points N] [--set KEY=VALUE]...\n"
                "         [--save-all] [--check] [--max-saved N] [--hang-seconds S]\n"
-               "         [--summary-json FILE] [--list]\n",
+               "         [--summary-json FILE] [--balls P] [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -373,10 +374,30 @@ Case make_case(std::uint64_t seed, std::uint64_t k, std::size_t max_points) {
   return c;
 }
 
-/// The case as the method can take it: no closed curve or point kind it does not offer.
+/// With probability `share`, data balls on 80% of the case's points: radius up to 0.45 of the
+/// shorter gap to a neighbour (neighbouring discs apart). Drawn from a stream of their own, so
+/// that the cases themselves do not depend on --balls.
+void add_balls(Case& c, std::uint64_t seed, std::uint64_t k, double share) {
+  Rng r(mix(seed ^ mix(k + 0xba11)));
+  if (!(share > 0.0) || !r.p(share)) return;
+  const std::vector<Point>& p = c.in.points;
+  const std::size_t n = p.size();
+  c.in.radii.assign(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    double gap = HUGE_VAL;
+    if (c.in.closed || i > 0) gap = std::min(gap, distance(p[i], p[(i + n - 1) % n]));
+    if (c.in.closed || i + 1 < n) gap = std::min(gap, distance(p[i], p[(i + 1) % n]));
+    if (r.p(0.8)) c.in.radii[i] = r.u(0.0, 0.45) * gap;
+  }
+  c.shape += " balls";
+}
+
+/// The case as the method can take it: no closed curve, point kind or data ball it does not
+/// offer.
 FitInput adapt(const Case& c, const MethodInfo& m) {
   FitInput in = c.in;
   const Capabilities& k = m.capabilities;
+  if (!k.data_balls) in.radii.clear();
   if (in.closed && !k.closed) in.closed = false;
   for (std::size_t i = 0; i < in.kinds.size(); ++i) {
     if (!k.honours(in.kinds[i])) {
@@ -573,6 +594,8 @@ void save(Shared& sh, const Variant& v, std::uint64_t k, const FitInput& in, con
   const std::string max_points = sh.args->max_points == Args{}.max_points
                                      ? std::string()
                                      : " --max-points " + std::to_string(sh.args->max_points);
+  const std::string balls =
+      sh.args->balls > 0.0 ? " --balls " + nlohmann::json(sh.args->balls).dump() : std::string();
   j["_stress"] = {{"seed", sh.args->seed},
                   {"case", k},
                   {"variant", v.label},
@@ -582,14 +605,15 @@ void save(Shared& sh, const Variant& v, std::uint64_t k, const FitInput& in, con
                   {"shape", c.shape},
                   {"replay", "fairspline_stress --seed " + std::to_string(sh.args->seed) +
                                  " --start " + std::to_string(k) + " --count 1 --methods " +
-                                 v.label + max_points + " --save-all"}};
+                                 v.label + max_points + balls + " --save-all"}};
   std::ofstream f(path);
   f << j.dump(1) << "\n";
 }
 
 void run_case(Shared& sh, unsigned t, std::uint64_t k, std::vector<Stats>& stats, FitResult& r) {
   const Args& a = *sh.args;
-  const Case c = make_case(a.seed, k, a.max_points);
+  Case c = make_case(a.seed, k, a.max_points);
+  add_balls(c, a.seed, k, a.balls);
   bool any_bad = false;
   for (std::size_t vi = 0; vi < sh.variants->size(); ++vi) {
     const Variant& v = (*sh.variants)[vi];
@@ -726,6 +750,9 @@ int main(int argc, char** argv) {
       a.max_saved = static_cast<int>(to_u64(value(), "max-saved"));
     } else if (s == "--hang-seconds") {
       a.hang_seconds = std::stod(value());
+    } else if (s == "--balls") {
+      a.balls = std::stod(value());
+      if (!(a.balls >= 0.0 && a.balls <= 1.0)) usage("--balls needs a share in [0, 1]");
     } else if (s == "--summary-json") {
       a.summary_json = value();
     } else if (s == "--list") {
@@ -796,7 +823,8 @@ int main(int argc, char** argv) {
         const Variant& var = variants[static_cast<std::size_t>(v)];
         std::fprintf(stderr, "\nfairspline_stress: %s case %llu runs for over %.0f s\n",
                      var.label.c_str(), static_cast<unsigned long long>(k), a.hang_seconds);
-        const Case c = make_case(a.seed, k, a.max_points);
+        Case c = make_case(a.seed, k, a.max_points);
+        add_balls(c, a.seed, k, a.balls);
         save(sh, var, k, adapt(c, *var.method), draw_options(var, a.seed, k), "hang",
              "runs for over " + std::to_string(a.hang_seconds) + " s", 0.0, c);
       }
