@@ -1060,11 +1060,18 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   const double residual = res.residual;
   const std::size_t worst = res.worst;
   if (!converged && !at_precision && !options.best_effort) {
+    if (!std::isfinite(residual)) {
+      throw Error(ErrorCode::kNotConverged,
+                  "the data-ball optimizer cannot start: the curve through the centres turns by "
+                  "the most its directions allow (2 omega) at a point whose position bounds it; "
+                  "give the balls there radius 0 or remove a point",
+                  worst);
+    }
     throw Error(ErrorCode::kNotConverged,
                 "the data-ball optimizer stopped after " + std::to_string(iterations) +
                     " iterations with a KKT residual of " + format_number(residual) +
                     " (relative, largest at this point), above the tolerance " +
-                    format_number(options.tolerance),
+                    format_number(std::max(options.tolerance, kBallTolerance)),
                 worst);
   }
 
