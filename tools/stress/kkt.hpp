@@ -527,8 +527,9 @@ inline KktResult check_g2_breakpoints(const FitInput& in, const FitResult& r) {
 /// turns with that chord, so its torque (the bound's multiplier) adds to the forces on the
 /// chord's ends; next to a given direction on a bound, or a direction on both of its bounds (a
 /// stencil at 2Ω), the multiplier of a constraint on positions is not known here: those balls
-/// are not checked. Forces are measured as the solver measures them: times the shorter adjacent
-/// chord, over max 1/L. Positions must lie in their discs to the rounding of their coordinates.
+/// are not checked, nor the ends of a chord below 1e-6 of the coordinates. Forces are measured as
+/// the solver measures them: times the shorter adjacent chord, over max 1/L. Positions must lie in
+/// their discs to the rounding of their coordinates.
 inline KktResult check_balls(const FitInput& in, const FitResult& r, const BasicCurveMethod& m) {
   FitInput at = in;
   at.points = r.points;
@@ -575,6 +576,14 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
     force[j] += (torque / len[s]) * unit_n[s];
   };
   auto skip_span = [&](std::size_t s) { unchecked[s] = unchecked[s + 1 == n ? 0 : s + 1] = 1; };
+  // A chord below 1e-6 of the coordinates' size: its end directions, read off the Béziers,
+  // keep fewer than ten digits, too few for the forces (check_min_energy's allowance covers
+  // the directions, not the positions).
+  double size = 0.0;
+  for (const Point& q : r.points) size = std::max({size, std::abs(q.x), std::abs(q.y)});
+  for (std::size_t s = 0; s < spans; ++s) {
+    if (len[s] < 1e-6 * size) skip_span(s);
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const bool has_out = r.closed || i + 1 < n, has_in = r.closed || i > 0;
     const std::size_t so = i, si = i == 0 ? spans - 1 : i - 1;
@@ -606,9 +615,9 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
       ell = std::min(ell, distance(in.points[i], in.points[i ? i - 1 : n - 1]));
     if (r.closed || i + 1 < n) ell = std::min(ell, distance(in.points[i], in.points[(i + 1) % n]));
     const Vec2 off = r.points[i] - in.points[i], f = force[i] * (ell / gscale);
-    const double size = std::max({std::abs(in.points[i].x), std::abs(in.points[i].y),
+    const double here = std::max({std::abs(in.points[i].x), std::abs(in.points[i].y),
                                   std::abs(r.points[i].x), std::abs(r.points[i].y)});
-    const double rounding = 4.0 * detail::kEps * size;
+    const double rounding = 16.0 * detail::kEps * here;  // of p − q and of the projection
     double res = 0.0;
     const char* kind_text = "force at an inactive ball";
     if (norm(off) > radius * (1.0 + 1e-12) + rounding) {
