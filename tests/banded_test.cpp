@@ -8,31 +8,12 @@
 #include <random>
 #include <vector>
 
+#include "test_util.hpp"
+
 namespace fairspline::detail {
 namespace {
 
-// Solves the dense system by Gaussian elimination with partial pivoting.
-std::vector<double> dense_solve(std::vector<std::vector<double>> a, std::vector<double> b) {
-  const std::size_t n = b.size();
-  for (std::size_t c = 0; c < n; ++c) {
-    std::size_t p = c;
-    for (std::size_t r = c + 1; r < n; ++r) {
-      if (std::abs(a[r][c]) > std::abs(a[p][c])) p = r;
-    }
-    std::swap(a[p], a[c]);
-    std::swap(b[p], b[c]);
-    for (std::size_t r = c + 1; r < n; ++r) {
-      const double f = a[r][c] / a[c][c];
-      for (std::size_t k = c; k < n; ++k) a[r][k] -= f * a[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (std::size_t c = n; c-- > 0;) {
-    for (std::size_t k = c + 1; k < n; ++k) b[c] -= a[c][k] * b[k];
-    b[c] /= a[c][c];
-  }
-  return b;
-}
+using testing::dense_solve;
 
 struct Problem {
   std::vector<std::vector<double>> a;

@@ -36,6 +36,33 @@ inline std::vector<Point> random_walk(std::size_t n, std::uint64_t seed,
 }
 
 /// n points on an ellipse (closed polygon without the repeated first point).
+/// Dense Gaussian elimination with partial pivoting: the reference of the banded solvers'
+/// tests. T is double or Vec2 (one right-hand side per coordinate).
+template <typename T>
+std::vector<T> dense_solve(std::vector<std::vector<double>> a, std::vector<T> b) {
+  const std::size_t n = b.size();
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < n; ++r) {
+      if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
+    }
+    std::swap(a[c], a[piv]);
+    std::swap(b[c], b[piv]);
+    for (std::size_t r = c + 1; r < n; ++r) {
+      const double f = a[r][c] / a[c][c];
+      for (std::size_t k = c; k < n; ++k) a[r][k] -= f * a[c][k];
+      b[r] -= f * b[c];
+    }
+  }
+  std::vector<T> x(n);
+  for (std::size_t r = n; r-- > 0;) {
+    T s = b[r];
+    for (std::size_t k = r + 1; k < n; ++k) s -= a[r][k] * x[k];
+    x[r] = s / a[r][r];
+  }
+  return x;
+}
+
 inline std::vector<Point> ellipse(std::size_t n, double a = 2, double b = 1) {
   std::vector<Point> pts;
   for (std::size_t i = 0; i < n; ++i) {

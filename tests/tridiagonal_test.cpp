@@ -7,33 +7,12 @@
 #include <cmath>
 #include <vector>
 
+#include "test_util.hpp"
+
 namespace fairspline::detail {
 namespace {
 
-// Dense solve with partial pivoting (reference).
-std::vector<Vec2> dense_solve(std::vector<std::vector<double>> A, std::vector<Vec2> b) {
-  const std::size_t n = b.size();
-  for (std::size_t c = 0; c < n; ++c) {
-    std::size_t piv = c;
-    for (std::size_t r = c + 1; r < n; ++r) {
-      if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
-    }
-    std::swap(A[c], A[piv]);
-    std::swap(b[c], b[piv]);
-    for (std::size_t r = c + 1; r < n; ++r) {
-      const double f = A[r][c] / A[c][c];
-      for (std::size_t k = c; k < n; ++k) A[r][k] -= f * A[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  std::vector<Vec2> x(n);
-  for (std::size_t r = n; r-- > 0;) {
-    Vec2 s = b[r];
-    for (std::size_t k = r + 1; k < n; ++k) s -= A[r][k] * x[k];
-    x[r] = s / A[r][r];
-  }
-  return x;
-}
+using testing::dense_solve;
 
 RC_GTEST_PROP(Tridiagonal, MatchesDenseSolve, ()) {
   const auto n = *rc::gen::inRange<std::size_t>(1, 30);
