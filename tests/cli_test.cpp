@@ -369,11 +369,16 @@ TEST_F(Cli, CurveEnsembleFilesInAndOut) {
   const CliRun refit = run("fit " + quote(saved));
   ASSERT_EQ(refit.exit_code, 0) << refit.err;
   EXPECT_EQ(refit.out, json_out.out) << "a result file is a request for the same curve";
-  // Data balls are refused as malformed input (exit 2), naming the line and node.
-  const std::string balls = write_file("balls.txt", "0 0 0 0 7\n5 5 0 0 -2\n9 0 0 0 5\n");
-  const CliRun bad = run("fit " + quote(balls) + " --input-format ce");
+  // A data-ball file ("x y r" lines) fits through its discs, and -f ce writes the balls back
+  // (state −r); a negative radius is refused as malformed input (exit 2), naming the node.
+  const std::string balls = write_file("balls.txt", "0 0 0\n3 1.5 0.5\n6 -0.5 0.5\n9 1 0\n");
+  const CliRun fitted = run("fit " + quote(balls) + " --input-format ce -f ce");
+  ASSERT_EQ(fitted.exit_code, 0) << fitted.err;
+  EXPECT_NE(fitted.out.find(" -0.5 "), std::string::npos) << fitted.out;
+  const std::string negative = write_file("negative.txt", "0 0 1\n5 5 -2\n9 0 0\n");
+  const CliRun bad = run("fit " + quote(negative) + " --input-format ce");
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("line 2 (node 1)"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("node 1"), std::string::npos) << bad.err;
 }
 
 }  // namespace

@@ -27,6 +27,9 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+/// A direction within this fraction of Ω beyond a bound it is held to is on it (rounding).
+constexpr double kBoxRounding = 1e-12;
+
 double wrap(double a) {
   return std::remainder(a, 2.0 * kPi);
 }
@@ -196,7 +199,8 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
     }
     for (int b = 0; b < sl.nbox; ++b) {
       const double dev = wrap(sl.theta + sl.offset[b] - st.phi[sl.span[b]]);
-      if (std::abs(dev) < om || (clip && std::abs(dev) == om)) continue;
+      // (A bound met to rounding counts as met: a position on its circle moves by ulps.)
+      if (std::abs(dev) < om || (clip && std::abs(dev) <= om * (1.0 + kBoxRounding))) continue;
       if (sl.fixed || sl.active >= 0 || !clip) return false;
       sl.theta -= dev - std::copysign(om, dev);
       sl.active = b;
@@ -542,6 +546,21 @@ class Solver {
     Outcome o;
     int flat = 0;
     double best_pg = HUGE_VAL;
+    // Without a barrier, the point of least residual so far: where the energy's rounding lets
+    // steps wander (the elastic energies, to ~1e-12), a stop returns it rather than the last.
+    Problem best;
+    State best_st;
+    Outcome best_o;
+    auto stop = [&](Outcome& now) {
+      if (mu == 0.0 && best_o.residual < now.residual) {
+        std::swap(pb_, best);
+        std::swap(st_, best_st);
+        best_o.iterations = now.iterations;
+        best_o.stalled = now.stalled;
+        now = best_o;
+      }
+      return now;
+    };
     for (;; ++o.iterations) {
       std::size_t border = number_unknowns(pb_, scale_);
       double phi = evaluate(mu, border);
@@ -554,7 +573,12 @@ class Solver {
         o.converged = true;
         return o;
       }
-      if (o.iterations >= budget) return o;
+      if (mu == 0.0 && o.residual < best_o.residual) {
+        best = pb_;
+        best_st = st_;
+        best_o = o;
+      }
+      if (o.iterations >= budget) return stop(o);
       const double rounding = relative_rounding_ * std::abs(phi);
       // A constraint is freed once the point is stationary on its face (else the Newton step
       // can point out through it again).
@@ -613,7 +637,7 @@ class Solver {
       }
       if (!accepted) {
         o.stalled = true;
-        return o;
+        return stop(o);
       }
       // Steps accepted only within the rounding of φ: the point is as good as it gets.
       const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
@@ -625,7 +649,7 @@ class Solver {
       if (flat >= 5) {
         ++o.iterations;
         o.stalled = true;
-        return o;
+        return stop(o);
       }
     }
   }
@@ -644,7 +668,8 @@ class Solver {
         const double w = box_weight(sl, k, mu);
         if (w == 0.0) continue;
         const double dev = wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
-        b -= w * std::log((om - dev) * (om + dev) / (om * om));
+        const double room = std::max(om - std::abs(dev), kBoxRounding * om);
+        b -= w * std::log(room * (2.0 * om - room) / (om * om));
       }
     }
     return b;
@@ -720,7 +745,8 @@ class Solver {
           ++dev.m;
         }
         const double x = wrap(sl.theta + sl.offset[k] - st_.phi[t]);
-        const double lo = om + x, hi = om - x;
+        const double lo = std::max(om + x, kBoxRounding * om),
+                     hi = std::max(om - x, kBoxRounding * om);
         add_function(dev, w * (1.0 / hi - 1.0 / lo), w * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
       }
     }

@@ -309,7 +309,8 @@ TEST(DataBalls, NoLowerEnergyFoundByABruteForceSearch) {
       try {
         r = fit_balls(c.method, in, c.options, ReportLevel::kNone);
       } catch (const Error& e) {
-        ASSERT_EQ(e.code(), ErrorCode::kInfeasible) << e.what();
+        ASSERT_EQ(e.code(), ErrorCode::kInfeasible)
+            << c.method << " " << c.options.dump() << " case " << rep << ": " << e.what();
         continue;
       }
       const double e = r.method_report.at("energy").get<double>();
