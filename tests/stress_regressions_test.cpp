@@ -70,7 +70,10 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s18-m60-c10362.json",
     "kozak-krajnc-not_converged-s18-m60-c3050.json",
     "kozak-krajnc-not_converged-s18-m60-c5065.json",
+    "quasi-elastic-balls-not_converged-s19-c1346.json",
+    "quasi-elastic-balls-not_converged-s19-c1401.json",
     "quasi-elastic-not_converged-s18-c430846.json",
+    "restricted-elastic-balls-not_converged-s19-c419.json",
     "restricted-elastic-not_converged-s18-c130322.json",
     "restricted-elastic-not_converged-s18-c191336.json",
     "restricted-elastic-not_converged-s18-c214718.json",
@@ -91,13 +94,17 @@ std::string read_file(const std::string& path) {
 
 class StressRegression : public ::testing::TestWithParam<std::string> {};
 
-/// Inputs whose solver bug is not fixed yet (issue 18 stays open for them). Their tests are
+/// Inputs whose solver bug is not fixed yet (issues 18, 19 stay open for them). Their tests are
 /// skipped with the failure as the reason, and fail as soon as the input passes, so that the
 /// list only shrinks.
 const std::set<std::string> kOpen = {
     // Kozak-Krajnc G2 with three or more pieces: whether (1.4) has a solution is open.
     "kozak-krajnc-not_converged-s18-c131.json",
     "kozak-krajnc-not_converged-s18-c18.json",
+    // Data balls (issue 19): linear convergence at the iteration cap, 4e-9 and 8e-8 above the
+    // tolerance (docs/hardening.md, "Data balls").
+    "quasi-elastic-balls-not_converged-s19-c1401.json",
+    "restricted-elastic-balls-not_converged-s19-c419.json",
 };
 
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),

@@ -8,7 +8,9 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -960,6 +962,91 @@ class Solver {
   double shift_ = 0.0, slope_ = 0.0;
 };
 
+// Collinear-capable data: an open curve whose discs a straight line passes through in order
+// has a least-energy curve of energy 0, that line (for the bases with E_1(0, 0) = 0: all but
+// cond-G2 with λ ≠ 1, whose straight pieces still cost 6(λ−1)²/L). The optimizer only
+// approached it, the energy falling a few percent per step. Returns the positions on the line,
+// or nothing when no such line exists or the node model constrains the directions.
+std::optional<std::vector<Point>> straight_line(const Problem& pb) {
+  const std::size_t n = pb.node.size();
+  if (pb.closed || n < 2 || basic_energy(pb.m, 0.0, 0.0).e != 0.0) return std::nullopt;
+  for (const Slot& sl : pb.slot) {
+    if (sl.fixed) return std::nullopt;
+  }
+  for (const Node& nd : pb.node) {
+    if (nd.corner != 0.0) return std::nullopt;
+  }
+  double size = 0.0;
+  for (const Node& nd : pb.node) size = std::max({size, std::abs(nd.q.x), std::abs(nd.q.y)});
+  const double slack = 4.0 * std::numeric_limits<double>::epsilon() * size;
+  // The room a line of direction ψ has: the intersection of the discs' strips across it.
+  auto room = [&](double psi, double& offset) {
+    const Vec2 nrm{-std::sin(psi), std::cos(psi)};
+    double lo = -HUGE_VAL, hi = HUGE_VAL;
+    for (const Node& nd : pb.node) {
+      const double c = dot(nrm, nd.q);
+      lo = std::max(lo, c - nd.r);
+      hi = std::min(hi, c + nd.r);
+    }
+    offset = 0.5 * (lo + hi);
+    return hi - lo;
+  };
+  std::vector<std::size_t> fixed;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (pb.node[i].r == 0.0) fixed.push_back(i);
+  }
+  const Vec2 span = pb.node[n - 1].q - pb.node[0].q;
+  double psi = std::atan2(span.y, span.x), offset = 0.0, best = -HUGE_VAL;
+  if (fixed.size() >= 2) {  // two points fix the line
+    const Vec2 d = pb.node[fixed.back()].q - pb.node[fixed.front()].q;
+    psi = std::atan2(d.y, d.x);
+    best = room(psi, offset);
+  } else {  // the best direction over a grid, refined by golden sections
+    const int grid = 720;
+    double at = psi;
+    for (int k = 0; k < grid; ++k) {
+      const double a = psi + kPi * k / grid, r = room(a, offset);
+      if (r > best) best = r, at = a;
+    }
+    double a = at - kPi / grid, b = at + kPi / grid;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int it = 0; it < 80; ++it) {
+      const double x1 = b - g * (b - a), x2 = a + g * (b - a);
+      double o1, o2;
+      if (room(x1, o1) > room(x2, o2)) {
+        b = x2;
+      } else {
+        a = x1;
+      }
+    }
+    psi = 0.5 * (a + b);
+    best = room(psi, offset);
+  }
+  if (!(best >= -slack)) return std::nullopt;
+  // Along the line, in the curve's order: each disc meets it in an interval; positions strictly
+  // increasing, each as near its centre's projection as the order allows.
+  Vec2 u{std::cos(psi), std::sin(psi)};
+  if (dot(u, span) < 0.0) u = -1.0 * u;
+  const Vec2 nrm{-u.y, u.x};
+  const double c = dot(nrm, Vec2{-std::sin(psi), std::cos(psi)}) * offset;
+  std::vector<Point> p(n);
+  double last = -HUGE_VAL;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node& nd = pb.node[i];
+    const double d = dot(nrm, nd.q) - c, t = dot(u, nd.q);
+    const double h = std::sqrt(std::max(0.0, nd.r * nd.r - d * d));
+    const double lo = std::max(t - h, last), hi = t + h;
+    if (nd.r == 0.0 ? !(t > last) : !(lo < hi)) return std::nullopt;
+    const double at = nd.r == 0.0 ? t : std::clamp(t, std::nextafter(lo, hi), hi);
+    p[i] = nd.r == 0.0 ? nd.q : c * nrm + at * u;
+    if (nd.r > 0.0 && distance(p[i], nd.q) > nd.r) {
+      p[i] = nd.q + (nd.r / distance(p[i], nd.q)) * (p[i] - nd.q);
+    }
+    last = dot(u, p[i]);
+  }
+  return p;
+}
+
 }  // namespace
 
 bool has_data_balls(const FitInput& input) {
@@ -1071,15 +1158,34 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   // Newton over the directions and positions: first with a barrier that keeps the positions
   // inside their discs (no choice of active discs, which took one Newton step per disc), then
   // with the discs the barrier pressed against as constraints (the exact optimum).
-  Solver solver(pb, st, options);
-  Outcome res = solver.barrier_phase();
-  solver.cross_over();
-  const Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
-  res.iterations += exact.iterations;
-  res.converged = exact.converged;
-  res.stalled = exact.stalled;
-  res.residual = exact.residual;
-  res.worst = exact.worst;
+  Outcome res;
+  if (const std::optional<std::vector<Point>> line = straight_line(pb)) {
+    for (std::size_t i = 0; i < n; ++i) {
+      Node& nd = pb.node[i];
+      nd.p = (*line)[i];
+      nd.boundary = nd.r > 0.0 && distance(nd.p, nd.q) >= nd.r * (1.0 - 1e-9);
+    }
+    chord_angles(pb, st);
+    for (std::size_t i = 0; i < n; ++i) {  // every direction along its chords
+      Node& nd = pb.node[i];
+      const std::size_t s = i + 1 < n ? i : i - 1;
+      for (int k : {nd.in, nd.out}) {
+        if (k >= 0) pb.slot[k].theta = st.phi[s], pb.slot[k].active = -1;
+      }
+    }
+    res.converged = true;
+    res.residual = 0.0;
+  } else {
+    Solver solver(pb, st, options);
+    res = solver.barrier_phase();
+    solver.cross_over();
+    const Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
+    res.iterations += exact.iterations;
+    res.converged = exact.converged;
+    res.stalled = exact.stalled;
+    res.residual = exact.residual;
+    res.worst = exact.worst;
+  }
   const int iterations = res.iterations;
   const bool converged = res.converged,
              at_precision = !converged && res.stalled && res.residual <= kConditioningResidual;
