@@ -89,6 +89,13 @@ struct Problem {
   std::size_t next(std::size_t i) const { return i + 1 == node.size() ? 0 : i + 1; }
 };
 
+// Moves a position radially onto its circle, which becomes its constraint.
+void put_on_circle(Node& nd) {
+  const Vec2 off = nd.p - nd.q;
+  nd.p = nd.q + (nd.r / norm(off)) * off;
+  nd.boundary = true;
+}
+
 VJet position(const Node& nd) {
   VJet j;
   j.v = nd.p;
@@ -264,6 +271,29 @@ Jet slot_jet(const Problem& pb, const Slot& sl) {
     const std::size_t s = sl.span[sl.active];
     j = angle(chord(position(pb.node[s]), position(pb.node[pb.next(s)])));
     j.v = sl.theta;
+  }
+  return j;
+}
+
+// a − b over the union of their unknowns.
+Jet difference(const Jet& a, const Jet& b) {
+  Jet j = a;
+  j.v = a.v - b.v;
+  std::array<int, 4> at{};
+  for (int q = 0; q < b.m; ++q) {
+    int k = 0;
+    while (k < j.m && j.idx[k] != b.idx[q]) ++k;
+    if (k == j.m) {
+      j.idx[k] = b.idx[q];
+      j.d[k] = 0.0;
+      for (int r = 0; r <= k; ++r) j.h[k][r] = j.h[r][k] = 0.0;
+      ++j.m;
+    }
+    at[q] = k;
+  }
+  for (int q = 0; q < b.m; ++q) {
+    j.d[at[q]] -= b.d[q];
+    for (int r = 0; r < b.m; ++r) j.h[at[q]][at[r]] -= b.h[q][r];
   }
   return j;
 }
@@ -530,10 +560,7 @@ class Solver {
     Problem p = pb_;
     State s;
     for (std::size_t i : which) {
-      Node& nd = p.node[i];
-      const Vec2 off = nd.p - nd.q;
-      nd.p = nd.q + (nd.r / norm(off)) * off;
-      nd.boundary = true;
+      put_on_circle(p.node[i]);
     }
     chord_angles(p, s);
     if (!settle(p, s) || !std::isfinite(total_energy(p, s))) return false;
@@ -710,42 +737,11 @@ class Solver {
         const double w = box_weight(sl, k, mu);
         if (w == 0.0) continue;
         const std::size_t t = sl.span[k];
-        Jet dev = angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)])));
-        for (int a = 0; a < dev.m; ++a) {
-          dev.d[a] = -dev.d[a];
-          for (int b = 0; b < dev.m; ++b) dev.h[a][b] = -dev.h[a][b];
-        }
-        if (sl.active >= 0) {  // θ = φ_a + const: its own chord's jet
-          const std::size_t a = sl.span[sl.active];
-          const Jet own = angle(chord(position(pb_.node[a]), position(pb_.node[pb_.next(a)])));
-          for (int q = 0; q < own.m; ++q) {
-            int at = -1;
-            for (int r = 0; r < dev.m; ++r) {
-              if (dev.idx[r] == own.idx[q]) at = r;
-            }
-            if (at < 0) {
-              at = dev.m++;
-              dev.idx[at] = own.idx[q];
-              dev.d[at] = 0.0;
-              for (int r = 0; r < dev.m; ++r) dev.h[at][r] = dev.h[r][at] = 0.0;
-            }
-            dev.d[at] += own.d[q];
-          }
-          for (int q = 0; q < own.m; ++q) {
-            for (int r = 0; r < own.m; ++r) {
-              int aq = 0, ar = 0;
-              for (int z = 0; z < dev.m; ++z) {
-                if (dev.idx[z] == own.idx[q]) aq = z;
-                if (dev.idx[z] == own.idx[r]) ar = z;
-              }
-              dev.h[aq][ar] += own.h[q][r];
-            }
-          }
-        } else if (sl.var >= 0) {
-          dev.idx[dev.m] = sl.var;
-          dev.d[dev.m] = 1.0;
-          ++dev.m;
-        }
+        // dev = θ + offset − φ_t: θ as the slot's jet (a free unknown, or its own chord's angle
+        // when it sits on a bound).
+        const Jet dev =
+            difference(slot_jet(pb_, sl),
+                       angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)]))));
         const double x = wrap(sl.theta + sl.offset[k] - st_.phi[t]);
         const double lo = std::max(om + x, kBoxRounding * om),
                      hi = std::max(om - x, kBoxRounding * om);
@@ -848,8 +844,7 @@ class Solver {
       const Vec2 off = nd.p - nd.q;
       const Vec2 d = displacement(nd);
       if (norm(off) < nd.r * (1.0 - 1e-12) || dot(off, d) <= 0.0) continue;
-      nd.p = nd.q + (nd.r / norm(off)) * off;
-      nd.boundary = true;
+      put_on_circle(nd);
       held_[i] = 1;
       any = true;
     }
@@ -936,10 +931,7 @@ class Solver {
         nd.p = nd.p + t * displacement(nd);
         const Vec2 off = nd.p - nd.q;
         if (mu > 0.0 && norm(off) >= nd.r) return false;
-        if (norm(off) >= nd.r * (1.0 - 1e-12)) {
-          nd.p = nd.q + (nd.r / norm(off)) * off;
-          nd.boundary = true;
-        }
+        if (norm(off) >= nd.r * (1.0 - 1e-12)) put_on_circle(nd);
       }
     }
     chord_angles(trial_, tst_);
