@@ -241,13 +241,14 @@ std::string write_svg(const FitResult& r, const SvgOptions& opt) {
   }
   for (const Point& p : r.points) box.add(p);
   // Data balls: the discs around the request's points (the centres).
-  const FitInput request = refit_input(r);
-  const bool balls = opt.points && !request.radii.empty();
+  // (The request keeps its points only where they differ from the result's.)
+  const std::vector<double>& radii = r.input.radii;
+  const std::vector<Point>& centres = r.input.points.empty() ? r.points : r.input.points;
+  const bool balls = opt.points && !radii.empty();
   if (balls) {
-    for (std::size_t i = 0; i < request.radii.size() && i < request.points.size(); ++i) {
-      const double rad = request.radii[i];
-      box.add(request.points[i] - Vec2{rad, rad});
-      box.add(request.points[i] + Vec2{rad, rad});
+    for (std::size_t i = 0; i < radii.size() && i < centres.size(); ++i) {
+      box.add(centres[i] - Vec2{radii[i], radii[i]});
+      box.add(centres[i] + Vec2{radii[i], radii[i]});
     }
   }
   if (box.empty()) box = Box{0.0, 0.0, 1.0, 1.0};
@@ -349,10 +350,10 @@ std::string write_svg(const FitResult& r, const SvgOptions& opt) {
     out +=
         "<g class=\"balls\" fill=\"#d62728\" fill-opacity=\"0.08\" stroke=\"#d62728\" "
         "stroke-opacity=\"0.5\" stroke-width=\"1\">\n";
-    for (std::size_t i = 0; i < request.radii.size() && i < request.points.size(); ++i) {
-      if (!(request.radii[i] > 0.0)) continue;
-      out += "<circle cx=\"" + X(request.points[i]) + "\" cy=\"" + Y(request.points[i]) +
-             "\" r=\"" + px(request.radii[i] * s) + "\"/>\n";
+    for (std::size_t i = 0; i < radii.size() && i < centres.size(); ++i) {
+      if (!(radii[i] > 0.0)) continue;
+      out += "<circle cx=\"" + X(centres[i]) + "\" cy=\"" + Y(centres[i]) + "\" r=\"" +
+             px(radii[i] * s) + "\"/>\n";
     }
     out += "</g>\n";
   }
