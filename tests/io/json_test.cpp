@@ -576,6 +576,18 @@ TEST(JsonText, SummaryTable) {
   const std::string none =
       summary_table(fit("li-combined", in, json::object(), ReportLevel::kNone));
   EXPECT_NE(none.find("not computed"), std::string::npos);
+  EXPECT_EQ(full.find("data balls"), std::string::npos);
+  // Data balls: how many touch their circle, and the optimizer's status.
+  FitInput balls;
+  balls.points = {{0, 0}, {3, 1.5}, {6, -0.5}, {9, 1}, {12, 0}};
+  balls.radii = {0, 0.6, 0.6, 0.6, 0};
+  const FitResult b = fit("quasi-elastic", balls);
+  const std::string table = summary_table(b);
+  const std::string value = std::to_string(b.method_report.at("balls").at("active").size()) +
+                            " of 3 on their circle (converged)";
+  const auto at = table.find("data balls");
+  ASSERT_NE(at, std::string::npos) << table;
+  EXPECT_EQ(table.substr(table.find_first_not_of(' ', at + 10), value.size()), value) << table;
 }
 
 }  // namespace

@@ -196,6 +196,29 @@ TEST(SvgWrite, CombAndControlPolygonOnlyWhenAsked) {
   EXPECT_EQ(count(svg, "<circle"), 2 * r.spline.segments.size() + r.points.size());
 }
 
+TEST(SvgWrite, DataBallsAreDrawnAsDiscsAroundTheirCentres) {
+  FitInput in;
+  in.points = {{0, 0}, {3, 1.5}, {6, -0.5}, {9, 1}, {12, 0}};
+  in.radii = {0, 0.6, 0, 0.4, 0};
+  const FitResult r = fit("quasi-elastic", in, json::object(), ReportLevel::kBasic);
+  const std::string svg = write_svg(r);
+  EXPECT_EQ(xml_problem(svg), "");
+  const std::string balls = svg.substr(svg.find("class=\"balls\""));
+  static const std::regex radius(R"re(<circle cx="[-0-9.]+" cy="[-0-9.]+" r="([-0-9.]+)")re");
+  std::vector<double> radii;
+  std::string rest = balls.substr(0, balls.find("</g>"));
+  std::smatch m;
+  while (std::regex_search(rest, m, radius)) {
+    radii.push_back(std::stod(m[1]));
+    rest = m.suffix();
+  }
+  ASSERT_EQ(radii.size(), 2u);  // one disc per positive radius
+  EXPECT_NEAR(radii[0] / radii[1], 1.5, 1e-3);
+  // Without balls there is no such group.
+  in.radii.clear();
+  EXPECT_EQ(write_svg(fit("quasi-elastic", in)).find("class=\"balls\""), std::string::npos);
+}
+
 TEST(SvgWrite, OptionsTurnThingsOff) {
   SvgOptions o;
   o.points = false;
