@@ -298,6 +298,29 @@ Jet difference(const Jet& a, const Jet& b) {
   return j;
 }
 
+// E_1's Hessian in (α, β) made the nearest positive semidefinite matrix (its eigenvalues clamped
+// at 0), as the interpolation's Newton matrix does where E_1 is concave.
+void project_psd(BasicEnergy& e) {
+  const double mid = 0.5 * (e.eaa + e.ebb), rad = std::hypot(0.5 * (e.eaa - e.ebb), e.eab);
+  const double lo = mid - rad, hi = mid + rad;
+  if (lo >= 0.0) return;
+  if (hi <= 0.0) {
+    e.eaa = e.eab = e.ebb = 0.0;
+    return;
+  }
+  // hi · v vᵀ, v the eigenvector of hi.
+  const double vx = e.eab, vy = hi - e.eaa, nv = vx * vx + vy * vy;
+  if (nv == 0.0) {  // diagonal: eaa = hi
+    e.eab = 0.0;
+    e.ebb = std::max(e.ebb, 0.0);
+    e.eaa = std::max(e.eaa, 0.0);
+    return;
+  }
+  e.eaa = hi * vx * vx / nv;
+  e.eab = hi * vx * vy / nv;
+  e.ebb = hi * vy * vy / nv;
+}
+
 // Raw partial derivatives: per slot ∂E/∂θ, per node ∂E/∂p (the other raw quantities held).
 struct Raw {
   std::vector<double> slot;
@@ -305,8 +328,11 @@ struct Raw {
 };
 
 // Energy, reduced gradient and Hessian (scaled: unknown k times scale[k]) into `h` and `g`.
+// With `convex`, each span's Hessian in its raw quantities is projected onto the PSD cone (for a
+// Newton matrix where the exact one is not definite).
 double assemble(const Problem& pb, const State& st, std::span<const double> scale,
-                std::size_t border, BorderedBand& h, std::vector<double>& g, Raw& raw) {
+                std::size_t border, BorderedBand& h, std::vector<double>& g, Raw& raw,
+                bool convex = false) {
   const std::size_t nv = scale.size(), band = nv - border, ns = pb.spans();
   g.assign(nv, 0.0);
   raw.slot.assign(pb.slot.size(), 0.0);
@@ -359,8 +385,9 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
     const Jet in = slot_jet(pb, pb.slot[pb.node[j].in]);
     const VJet c = chord(position(a), position(pb.node[j]));
     const double phi = st.phi[s];
-    const SpanDerivatives sd =
-        span_derivatives(span_energy(pb.m, wrap(o.v - phi), wrap(in.v - phi)), c.v);
+    BasicEnergy e1 = span_energy(pb.m, wrap(o.v - phi), wrap(in.v - phi));
+    if (convex) project_psd(e1);
+    const SpanDerivatives sd = span_derivatives(e1, c.v);
     energy += sd.e;
     raw.slot[a.out] += sd.g[0];
     raw.slot[pb.node[j].in] += sd.g[1];
@@ -616,6 +643,7 @@ class Solver {
         border = number_unknowns(pb_, scale_);
         phi = evaluate(mu, border);
       }
+      convexify(mu, border);
       newton();
       // Positions the full step takes out of their disc are pinned where their radial unknown
       // reaches the circle and the rest of the step is solved again (the projection in the line
@@ -645,6 +673,7 @@ class Solver {
       if (mu == 0.0 && hold_pushed_out()) {
         border = number_unknowns(pb_, scale_);
         phi = evaluate(mu, border);
+        convexify(mu, border);
         newton();
       }
       // With the barrier the step stays inside the discs (a fraction of the way to the circle).
@@ -681,6 +710,54 @@ class Solver {
         return stop(o);
       }
     }
+  }
+
+  /// At a stationary point: tries each direction pair of a span whose E_1 is concave there
+  /// along E_1's concave eigenvector, a few step sizes each way; moves to the first point of
+  /// clearly lower energy and says whether it did.
+  bool escape() {
+    number_unknowns(pb_, scale_);
+    const double phi = total_energy(pb_, st_);
+    const double margin = 1e-9 * std::abs(phi);
+    for (std::size_t s = 0; s < ns_; ++s) {
+      const Node& a = pb_.node[s];
+      const Node& b = pb_.node[pb_.next(s)];
+      Slot& out = pb_.slot[a.out];
+      Slot& in = pb_.slot[b.in];
+      const double so = out.var >= 0 ? 1.0 : 0.0, si = in.var >= 0 ? 1.0 : 0.0;
+      if (so + si == 0.0) continue;
+      const auto [al, be] = end_angles(pb_, st_, s);
+      const BasicEnergy e1 = span_energy(pb_.m, al, be);
+      const double haa = e1.eaa * so, hbb = e1.ebb * si, hab = e1.eab * so * si;
+      const double mid = 0.5 * (haa + hbb), rad = std::hypot(0.5 * (haa - hbb), hab);
+      if (mid - rad >= 0.0) continue;
+      // The eigenvector of the negative eigenvalue lo: (hab, lo − haa), or an axis.
+      const double lo = mid - rad;
+      double va = hab, vb = lo - haa;
+      if (std::hypot(va, vb) == 0.0) {
+        va = haa <= hbb ? 1.0 : 0.0;
+        vb = 1.0 - va;
+      }
+      const double nv = std::hypot(va, vb);
+      va *= so / nv;
+      vb *= si / nv;
+      for (double t : {0.4, 0.1, 0.02}) {
+        for (double sign : {1.0, -1.0}) {
+          trial_ = pb_;
+          trial_.slot[a.out].theta += sign * t * va;
+          if (b.in != a.out) trial_.slot[b.in].theta += sign * t * vb;
+          chord_angles(trial_, tst_);
+          if (!settle(trial_, tst_)) continue;
+          const double e = total_energy(trial_, tst_);
+          if (e < phi - margin) {
+            std::swap(pb_, trial_);
+            std::swap(st_, tst_);
+            return true;
+          }
+        }
+      }
+    }
+    return false;
   }
 
  private:
@@ -728,8 +805,9 @@ class Solver {
     }
   }
 
-  double evaluate(double mu, std::size_t border) {
-    double phi = assemble(pb_, st_, scale_, border, h_, g_, raw_);
+  double evaluate(double mu, std::size_t border, bool convex = false) {
+    factored_ = false;
+    double phi = assemble(pb_, st_, scale_, border, h_, g_, raw_, convex);
     phi += barrier(pb_, st_, mu);
     const double om = pb_.omega;
     for (const Slot& sl : pb_.slot) {
@@ -869,6 +947,17 @@ class Solver {
     return any;
   }
 
+  // Where the Newton matrix is not positive definite, each span's part of it is made so (its
+  // Hessian projected onto the PSD cone) instead of shifting the whole matrix: a shift that one
+  // concave span needed (cond-G2 with λ > 3/2 is concave around a straight span) slowed every
+  // unknown to a gradient step, hundreds of iterations on five points.
+  void convexify(double mu, std::size_t border) {
+    double dmax = 0.0;
+    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    factored_ = h_.factor(0.0, kMinPivot * std::max(dmax, gscale_));
+    if (!factored_) evaluate(mu, border, true);
+  }
+
   // The Newton step on the scaled unknowns, shifted until the matrix is positive definite.
   void newton(std::span<const std::pair<std::size_t, double>> pins = {}) {
     step_.assign(g_.size(), 0.0);
@@ -883,7 +972,8 @@ class Solver {
     for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
     const double min_pivot = kMinPivot * std::max(dmax, gscale_);
     shift_ = 0.0;
-    bool factored = false;
+    // (convexify factored the same matrix already)
+    bool factored = pins.empty() && factored_;
     for (int tries = 0; tries < 40 && !factored; ++tries) {
       factored = h->factor(shift_, min_pivot);
       if (!factored) shift_ = shift_ == 0.0 ? 1e-10 * std::max(dmax, gscale_) : shift_ * 10.0;
@@ -952,6 +1042,7 @@ class Solver {
   Problem trial_;
   State tst_;
   double shift_ = 0.0, slope_ = 0.0;
+  bool factored_ = false;  // h_ holds its own factor at shift 0
 };
 
 // Collinear-capable data: an open curve whose discs a straight line passes through in order
@@ -1171,7 +1262,17 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     Solver solver(pb, st, options);
     res = solver.barrier_phase();
     solver.cross_over();
-    const Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
+    Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
+    // A stationary point where a span's E_1 is concave may be a saddle (by symmetry: a
+    // straight span between free ends for cond-G2 with λ > 3/2): leave it downhill, go on.
+    for (int k = 0; k < 8 && exact.converged && solver.escape(); ++k) {
+      const Outcome more = solver.run(0.0, options.max_iterations, solver.tol);
+      exact.converged = more.converged;
+      exact.stalled = more.stalled;
+      exact.residual = more.residual;
+      exact.worst = more.worst;
+      exact.iterations += more.iterations + 1;
+    }
     res.iterations += exact.iterations;
     res.converged = exact.converged;
     res.stalled = exact.stalled;
