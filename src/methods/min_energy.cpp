@@ -1532,6 +1532,28 @@ std::string deg(double rad) {
   return buf;
 }
 
+/// `shown` in degrees with enough digits to differ from `bound` (as `abs_value` does): an angle
+/// just past Ω is not printed as Ω.
+std::string deg_apart(double abs_value, double bound, double shown) {
+  char a[40], b[40];
+  for (int digits = 2; digits < 12; ++digits) {
+    std::snprintf(a, sizeof a, "%.*f", digits, abs_value * 180.0 / kPi);
+    std::snprintf(b, sizeof b, "%.*f", digits, bound * 180.0 / kPi);
+    if (std::string(a) != b) {
+      std::snprintf(a, sizeof a, "%.*f", digits, shown * 180.0 / kPi);
+      return a;
+    }
+  }
+  return deg(shown);
+}
+
+/// A given direction up to this far (radians) past Ω counts as on the bound: a direction read
+/// back from a curve whose optimum lies on the bound (a drawn control arm, a result's tangent)
+/// comes back a few ulps past it, and clamping it must keep that curve. Far below any angle a
+/// user means (1e-9 rad is 6e-8 degrees); not applied past the elastic pair limit, where the
+/// s-curves end (docs/methods/min-energy.md, "End conditions and node kinds").
+constexpr double kGivenAngleTolerance = 1e-9;
+
 /// The largest omega_deg a basis accepts, as the infeasibility message advises it.
 std::string omega_limit(MinEnergyBasis basis) {
   switch (basis) {
@@ -1593,6 +1615,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       make(a, (b + n - a) % n + (b == a ? n : 0) + 1, false);
     }
   }
+  const double given_limit = std::max(omega, std::min(omega + kGivenAngleTolerance, kPairLimit));
   std::string bad, apart;
   std::size_t first_bad = n, first_apart = n;
   auto fail = [&](std::size_t i, const std::string& why) {
@@ -1680,9 +1703,9 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
         const Vec2 d = *given / norm(*given);
         const double al = std::atan2(cross(en, d), dot(en, d));
         const double be = std::atan2(cross(ep, d), dot(ep, d));
-        if ((has_next && std::abs(al) > omega) || (has_prev && std::abs(be) > omega)) {
-          fail(i, "(the given tangent makes an angle of " +
-                      deg(has_next && std::abs(al) > omega ? al : be) +
+        if ((has_next && std::abs(al) > given_limit) || (has_prev && std::abs(be) > given_limit)) {
+          const double a = has_next && std::abs(al) > given_limit ? al : be;
+          fail(i, "(the given tangent makes an angle of " + deg_apart(std::abs(a), omega, a) +
                       "° with a chord, beyond Ω = " + deg(omega) + "°)");
         }
         // The given direction is the reference (x = 0), so that α and β are its angles with the

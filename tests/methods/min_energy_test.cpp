@@ -1221,6 +1221,94 @@ TEST(MinEnergyFit, InfeasibleMessageGivesTheBasisOmegaLimit) {
   }
 }
 
+// Issue 20, bug 3: clamping a node of a fit whose direction lies on the bound Ω kept failing
+// with "angle of 90.00° with a chord, beyond Ω = 90.00°": the direction read back from the curve
+// is a few ulps past Ω. A given direction within kGivenAngleTolerance (1e-9 rad) of Ω counts as
+// on the bound; one clearly past it is still infeasible.
+TEST(MinEnergyFit, GivenDirectionOnTheBoundIsAccepted) {
+  // The README's example: the default fit has its directions on the bound at points 4 and 5.
+  const FitInput li =
+      input_of({{1, 90}, {3, 105}, {6, 120}, {10, 100}, {12, 85}, {15, 104}, {17, 80}});
+  const FitResult free = fit("quasi-elastic", li, {}, ReportLevel::kBasic);
+  const std::vector<std::size_t> active = active_of(free);
+  ASSERT_NE(std::find(active.begin(), active.end(), 4u), active.end());
+  ASSERT_NE(std::find(active.begin(), active.end(), 5u), active.end());
+  for (std::size_t i : {4u, 5u}) {
+    // Both ways the editor reads a direction back: the result's tangent and the control arm.
+    const CubicBezier& after = free.spline.segments[i].bezier;
+    for (const Vec2 d : {free.tangents[i], after.p[1] - after.p[0]}) {
+      FitInput in = li;
+      in.kinds.assign(li.points.size(), PointKind::kSmooth);
+      in.tangents.assign(li.points.size(), std::nullopt);
+      in.kinds[i] = PointKind::kClamped;
+      in.tangents[i] = d;
+      const FitResult r = fit("quasi-elastic", in, {}, ReportLevel::kBasic);
+      EXPECT_LT(std::abs(signed_angle(d, r.tangents[i])), 1e-14) << "point " << i;
+      // Clamping a direction the optimum has keeps the curve.
+      for (std::size_t s = 0; s < r.spline.segments.size(); ++s) {
+        for (int k = 0; k < 4; ++k) {
+          EXPECT_LT(norm(r.spline.segments[s].bezier.p[k] - free.spline.segments[s].bezier.p[k]),
+                    1e-9 * 120)
+              << "point " << i << ", segment " << s;
+        }
+      }
+    }
+  }
+  // Exactly Ω and Ω ± 1e-11 rad from a chord, for each basis at its default Ω (a clamped
+  // interior point and a start tangent), and 1e-6 rad past Ω refused (index and both angles).
+  struct Case {
+    const char* basis;
+    double omega_deg;
+  };
+  for (const Case& c : {Case{"quasi-elastic", 90}, Case{"cond-g2", 90}, Case{"jaklic-zagar", 80},
+                        Case{"yong-cheng", 60}, Case{"restricted-elastic", 90}}) {
+    SCOPED_TRACE(c.basis);
+    const nlohmann::json options = {{"basis", c.basis}};
+    const double omega = c.omega_deg * kDeg;
+    // Points 1..3 on a line at 20°: the chords' direction; the clamp at point 2 turns off it.
+    const Vec2 chord = from_angle(20 * kDeg);
+    const Point p1{1, 0.5};
+    const FitInput line = input_of({{0, 0}, p1, p1 + 1.5 * chord, p1 + 3.0 * chord, {5, 3}});
+    for (const double off : {0.0, 1e-11, -1e-11, 1e-6}) {
+      for (const double sign : {1.0, -1.0}) {
+        const Vec2 d = from_angle(20 * kDeg + sign * (omega + off));
+        FitInput in = line;
+        in.kinds.assign(5, PointKind::kSmooth);
+        in.tangents.assign(5, std::nullopt);
+        in.kinds[2] = PointKind::kClamped;
+        in.tangents[2] = d;
+        FitInput start = input_of({{0, 0}, Point{0, 0} + 2.0 * chord, {3, 0.5}});
+        start.start_tangent = from_angle(20 * kDeg + sign * (omega + off));
+        if (off > 1e-9) {
+          const Error e =
+              expect_error(ErrorCode::kInfeasible, [&] { (void)fit("min-energy", in, options); });
+          EXPECT_EQ(e.index(), 2u);
+          // The angle is printed with the digits that tell it from Ω.
+          EXPECT_EQ(
+              std::string(e.what()).find("angle of " + std::to_string(int(c.omega_deg)) + ".00°"),
+              std::string::npos)
+              << e.what();
+          EXPECT_EQ(
+              expect_error(ErrorCode::kInfeasible, [&] { (void)fit("min-energy", start, options); })
+                  .index(),
+              0u);
+          continue;
+        }
+        const FitResult r = fit("min-energy", in, options, ReportLevel::kBasic);
+        EXPECT_LT(std::abs(signed_angle(d, r.tangents[2])), 1e-14) << off;
+        EXPECT_TRUE(r.report && r.report->regular) << off;
+        const FitResult s = fit("min-energy", start, options, ReportLevel::kBasic);
+        EXPECT_LT(std::abs(signed_angle(*start.start_tangent, s.tangents[0])), 1e-14) << off;
+      }
+    }
+  }
+  // The elastic basis's domain ends at 180° (open): a direction opposite to a chord stays
+  // refused.
+  FitInput back = input_of({{0, 0}, {1, 0}, {2, 1}});
+  back.start_tangent = Vec2{-1, 0};
+  expect_error(ErrorCode::kInfeasible, [&] { (void)fit("elastic", back); });
+}
+
 TEST(MinEnergyFit, Errors) {
   // Stencil angles beyond 2Ω (Theorem 2.3): every offending point listed, index() the first.
   const Point p2{2, 0};
