@@ -189,7 +189,7 @@ TEST_F(Cli, BadOptionExitsOneWithMessage) {
   EXPECT_TRUE(r.out.empty());
   EXPECT_NE(r.err.find("fairspline: error [unknown_option]"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("wieghts"), std::string::npos) << r.err;
-  const CliRun v = run("fit " + quote(kExample) + " --set lambda=heavy");
+  const CliRun v = run("fit " + quote(kExample) + " -m cond-g2 --set lambda=heavy");
   EXPECT_EQ(v.exit_code, 1);
   EXPECT_NE(v.err.find("[bad_option]"), std::string::npos) << v.err;
   const CliRun s = run("fit " + quote(kExample) + " -f svg --set svg.comb=maybe");

@@ -4,8 +4,10 @@
 // document every code and quote every entry's message.
 #include "fairspline/error.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -123,6 +125,50 @@ TEST(ErrorCatalog, LiSingularSystemSpeaksNoFrontEndsSyntax) {
   for (const Error* e : {&open, &closed}) {
     EXPECT_EQ(std::string(e->what()).find("--"), std::string::npos) << e->what();
   }
+}
+
+/// No string literal of the library quotes a command-line flag ("--set", "-m NAME"): messages
+/// are front-end neutral, and an option that gets past an error travels as Error::hint, which
+/// each front end words in its own syntax (issue 20, bug 4).
+TEST(ErrorCatalog, LibrarySourcesQuoteNoCommandLineFlags) {
+  const std::regex literal(R"re("(?:[^"\\\n]|\\.)*")re");
+  const std::regex flag(R"re(--[a-z]|(^|[^a-z0-9_-])-[a-zA-Z] [a-z])re");
+  std::size_t files = 0;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(std::string(FAIRSPLINE_SOURCE_DIR) + "/src")) {
+    if (entry.path().extension() != ".cpp" && entry.path().extension() != ".hpp") continue;
+    ++files;
+    std::istringstream lines(read_text(entry.path().string()));
+    std::string line;
+    for (int number = 1; std::getline(lines, line); ++number) {
+      const auto code = line.find_first_not_of(' ');
+      if (code != std::string::npos && line.compare(code, 2, "//") == 0) continue;
+      for (std::sregex_iterator m(line.begin(), line.end(), literal), end; m != end; ++m) {
+        EXPECT_FALSE(std::regex_search(m->str(), flag))
+            << entry.path().string() << ":" << number << ": " << m->str();
+      }
+    }
+  }
+  EXPECT_GT(files, 20u);
+}
+
+/// The hints: the option and value that get past an error, never in a flag's syntax.
+TEST(ErrorCatalog, HintsNameTheOption) {
+  FitInput five;
+  five.points = {{0, 0}, {1, 1}, {2, 0}, {3, 1}, {4, 0}};
+  const Error kk =
+      testing::expect_error(ErrorCode::kWrongPointCount, [&] { fit("kozak-krajnc", five); });
+  ASSERT_TRUE(kk.hint());
+  EXPECT_EQ(kk.hint()->name, "remainder");
+  EXPECT_EQ(kk.hint()->value, "hermite");
+  FitInput back;
+  back.points = {{0, 0}, {2, 0}, {1, 0}, {3, 0}};
+  const Error jz = testing::expect_error(ErrorCode::kReversal, [&] { fit("jaklic-zagar", back); },
+                                         {"set the option reversal to insert"});
+  ASSERT_TRUE(jz.hint());
+  EXPECT_EQ(jz.hint()->name, "reversal");
+  EXPECT_EQ(jz.hint()->value, "insert");
+  EXPECT_EQ(jz.index(), 1u);
 }
 
 #ifdef FAIRSPLINE_HAVE_WEB

@@ -224,8 +224,8 @@ std::string fmt_point(Vec2 v) {
               "the curve reverses direction at point " + std::to_string(index) +
                   " (its two chords are collinear and opposite, a 180 degree turn): every G1 "
                   "curve through these points folds there (Jaklic-Zagar, Lemma 5). Remove or move "
-                  "the point, or use option reversal=insert",
-              index);
+                  "the point, or set the option reversal to insert, which inserts points there",
+              index, OptionHint{"reversal", "insert"});
 }
 
 // ---- input preparation ----

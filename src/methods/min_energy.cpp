@@ -2148,7 +2148,7 @@ std::string min_energy_search_name(MinEnergySearch search) {
 
 std::vector<MethodInfo> min_energy_methods() {
   auto make = [](std::string name, std::string description, std::string basis) {
-    return MethodInfo{
+    MethodInfo info{
         .name = std::move(name),
         .description = std::move(description),
         .paper =
@@ -2190,11 +2190,14 @@ std::vector<MethodInfo> min_energy_methods() {
               MinEnergyOptions opt;
               const std::string b = o.at("basis").get<std::string>();
               opt.method.basis = kBasis.parse(b);
-              opt.method.lambda = o.at("lambda").get<double>();
+              // quasi-elastic has no lambda option (its cubic is λ = 1).
+              opt.method.lambda = o.contains("lambda") ? o.at("lambda").get<double>() : 1.0;
               if (b == "quasi-elastic" && opt.method.lambda != 1.0) {
                 throw Error(ErrorCode::kBadOption,
                             "option lambda applies to basis cond-g2; the quasi-elastic cubic is "
-                            "lambda = 1 (choose the method cond-g2 to set lambda)");
+                            "lambda = 1 (set the option basis to cond-g2, or choose the method "
+                            "cond-g2, to set lambda)",
+                            std::nullopt, OptionHint{"basis", "cond-g2"});
               }
               opt.method.omega = o.contains("omega_deg") && !o.at("omega_deg").is_null()
                                      ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
@@ -2208,6 +2211,12 @@ std::vector<MethodInfo> min_energy_methods() {
         .capabilities = min_energy_capabilities(),
         .report_units = min_energy_report_units(),
     };
+    // The quasi-elastic method is the cubic of λ = 1: a lambda option would only ever be an
+    // error, and every front end shows the options a method lists.
+    if (info.name == "quasi-elastic") {
+      std::erase_if(info.options, [](const OptionSpec& o) { return o.name == "lambda"; });
+    }
+    return info;
   };
   return {make("quasi-elastic",
                "Minimal-energy G1 cubic spline (Johnson-Johnson) with the quasi-elastic basic "

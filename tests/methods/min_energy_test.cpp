@@ -771,9 +771,21 @@ TEST(MinEnergyFit, RegistryNamesAndOptions) {
   EXPECT_GT(
       std::abs(g.method_report["energy"].get<double>() - qe.method_report["energy"].get<double>()),
       1e-3);
-  // quasi-elastic is λ = 1: another lambda is a bad option, not silently ignored.
-  const Error bad = testing::expect_error([&] { fit("quasi-elastic", in, {{"lambda", 2.0}}); });
-  EXPECT_EQ(bad.code(), ErrorCode::kBadOption);
+  // quasi-elastic is λ = 1: it lists no lambda option (front ends show the options a method
+  // lists; issue 20, bug 4), and basis=quasi-elastic with another lambda is a bad option, not
+  // silently ignored, with the option that gets past it as a hint.
+  const Error unknown = testing::expect_error([&] { fit("quasi-elastic", in, {{"lambda", 2.0}}); });
+  EXPECT_EQ(unknown.code(), ErrorCode::kUnknownOption);
+  for (const OptionSpec& o : find_method("quasi-elastic").options) EXPECT_NE(o.name, "lambda");
+  const Error bad = testing::expect_error(ErrorCode::kBadOption,
+                                          [&] {
+                                            fit("min-energy", in, {{"lambda", 2.0}});
+                                          },
+                                          {"lambda = 1"});
+  ASSERT_TRUE(bad.hint());
+  EXPECT_EQ(bad.hint()->name, "basis");
+  EXPECT_EQ(bad.hint()->value, "cond-g2");
+  EXPECT_EQ(std::string(bad.what()).find("--"), std::string::npos) << bad.what();
   // basis=yong-cheng beyond acos(1/3): speeds could turn negative.
   EXPECT_EQ(testing::expect_error([&] {
               fit("min-energy", in, {{"basis", "yong-cheng"}, {"omega_deg", 75}});

@@ -63,8 +63,11 @@ def test_unknown_method_and_options():
     assert e.code == "bad_option"
     e = error_of(fairspline.fit, pts, "quasi-elastic", omega_deg=object())
     assert e.code == "bad_option"
-    e = error_of(fairspline.fit, pts, "quasi-elastic", options={"lambda": 1}, **{"lambda": 2})
+    e = error_of(fairspline.fit, pts, "cond-g2", options={"lambda": 1}, **{"lambda": 2})
     assert e.code == "bad_option"
+    # quasi-elastic is the cubic of lambda = 1: it has no such option.
+    e = error_of(fairspline.fit, pts, "quasi-elastic", **{"lambda": 0.5})
+    assert e.code == "unknown_option"
     e = error_of(fairspline.fit, pts, report="everything")
     assert e.code == "invalid_argument"
 
