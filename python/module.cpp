@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <exception>
@@ -58,13 +59,30 @@ PyObject* g_error_type = nullptr;
 
 /// A fairspline.Error instance for `e`; `curve` (fit_many) prefixes the message and is kept as
 /// the attribute `curve`.
+/// A hint's value as a Python literal: numbers and booleans as such, anything else quoted.
+std::string python_literal(const std::string& value) {
+  if (value == "true" || value == "false") return value == "true" ? "True" : "False";
+  char* end = nullptr;
+  (void)std::strtod(value.c_str(), &end);
+  if (!value.empty() && end == value.c_str() + value.size()) return value;
+  return "\"" + value + "\"";
+}
+
 py::object make_error(const Error& e, std::optional<std::size_t> curve = std::nullopt) {
   std::string message = e.what();
   if (curve) message = "curve " + std::to_string(*curve) + ": " + message;
+  // The library's message names no syntax; Python's hint is a keyword of fit().
+  py::object hint = py::none();
+  if (const auto& h = e.hint()) {
+    message += " (hint: pass " + h->name + "=" +
+               (h->value.empty() ? std::string("...") : python_literal(h->value)) + ")";
+    hint = py::make_tuple(h->name, h->value.empty() ? py::object(py::none()) : py::str(h->value));
+  }
   py::object instance = py::reinterpret_borrow<py::object>(g_error_type)(message);
   instance.attr("code") = py::str(std::string(fairspline::error_code_name(e.code())));
   instance.attr("index") = e.index() ? py::object(py::int_(*e.index())) : py::object(py::none());
   instance.attr("curve") = curve ? py::object(py::int_(*curve)) : py::object(py::none());
+  instance.attr("hint") = hint;
   return instance;
 }
 
@@ -713,7 +731,10 @@ Python: fairspline.Error is a ValueError with the attributes
          R"(
   index  the offending point (or span / line, or element of t) as an int, or None
   curve  fit_many only: the position of the failing curve in the list, or None
-str(error) is the library's sentence.)";
+  hint   (option, value) when an option of the method gets past the error (value None: any
+         value its documentation allows), else None
+str(error) is the library's sentence; when there is a hint it ends with
+(hint: pass option=value).)";
 }
 
 std::string curve_doc() {
@@ -773,6 +794,7 @@ PYBIND11_MODULE(_core, m) {
   error_defaults["code"] = py::none();
   error_defaults["index"] = py::none();
   error_defaults["curve"] = py::none();
+  error_defaults["hint"] = py::none();
   g_error_type = PyErr_NewExceptionWithDoc("fairspline.Error", keep(error_doc()), PyExc_ValueError,
                                            error_defaults.ptr());
   if (!g_error_type) throw py::error_already_set();

@@ -187,6 +187,11 @@ TEST(ErrorCatalog, Http) {
               std::string::npos)
         << err.at("message");
   }
+  // A hint travels as data, for the editor to offer as a button.
+  const web::ApiResponse kk = web::handle_fit(
+      R"({"points": [[0,0],[1,1],[2,0],[3,1],[4,0]], "method": "kozak-krajnc"})", {});
+  EXPECT_EQ(json::parse(kk.body).at("error").at("hint"),
+            (json{{"option", "remainder"}, {"value", "hermite"}}));
 }
 #endif
 

@@ -733,10 +733,15 @@ FitResult fit_result_from_json(const json& document) {
 }
 
 json error_to_json(const Error& error) {
-  return {{"error",
-           {{"code", std::string(error_code_name(error.code()))},
-            {"message", error.what()},
-            {"index", error.index() ? json(*error.index()) : json(nullptr)}}}};
+  json body = {{"code", std::string(error_code_name(error.code()))},
+               {"message", error.what()},
+               {"index", error.index() ? json(*error.index()) : json(nullptr)}};
+  // The option that gets past the error, for the client to offer in its own terms.
+  if (const auto& hint = error.hint()) {
+    body["hint"] = {{"option", hint->name},
+                    {"value", hint->value.empty() ? json(nullptr) : json(hint->value)}};
+  }
+  return {{"error", std::move(body)}};
 }
 
 ReportLevel parse_report_level(std::string_view text) {

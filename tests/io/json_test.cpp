@@ -539,6 +539,14 @@ TEST(JsonOutput, ErrorToJson) {
   const json without = error_to_json(Error(ErrorCode::kUnknownMethod, "nope"));
   EXPECT_TRUE(without["error"]["index"].is_null());
   EXPECT_EQ(without["error"]["code"], "unknown_method");
+  EXPECT_FALSE(without["error"].contains("hint"));
+  // The option that gets past an error travels as data; each client words it (issue 20).
+  const json hinted = error_to_json(Error(ErrorCode::kWrongPointCount, "needs 3m+1 points", 4,
+                                          OptionHint{"remainder", "hermite"}));
+  EXPECT_EQ(hinted["error"]["hint"], (json{{"option", "remainder"}, {"value", "hermite"}}));
+  const json any = error_to_json(
+      Error(ErrorCode::kInvalidArgument, "no tangent", 0, OptionHint{"tangents_from", ""}));
+  EXPECT_TRUE(any["error"]["hint"]["value"].is_null());
 }
 
 TEST(JsonText, ReportLevelAndPointKindNames) {

@@ -82,6 +82,24 @@ def test_method_failures_keep_their_index():
     assert e.code == "singular_system"
 
 
+def test_hints_are_keywords_not_command_line_flags():
+    # Issue 20, bug 4: the library's sentence names no front end's syntax; Python adds its own.
+    pts = example_points()
+    e = error_of(fairspline.fit, pts[:6], "kozak-krajnc")
+    assert e.hint == ("remainder", "hermite")
+    assert 'hint: pass remainder="hermite"' in str(e) and "--" not in str(e)
+    e = error_of(fairspline.fit, pts, "min-energy", **{"lambda": 0.5})
+    assert (e.code, e.hint) == ("bad_option", ("basis", "cond-g2"))
+    assert 'basis="cond-g2"' in str(e)
+    e = error_of(fairspline.fit, [[0, 0], [2, 0], [1, 0], [3, 0]], "jaklic-zagar")
+    assert (e.code, e.index, e.hint) == ("reversal", 1, ("reversal", "insert"))
+    e = error_of(fairspline.fit, pts, "yong-cheng")
+    assert e.hint == ("tangents_from", None) and "tangents_from=..." in str(e)
+    e = error_of(fairspline.fit, pts, "li-curvature-variation")
+    assert e.hint is None and "--" not in str(e)
+    assert fairspline.Error("by hand").hint is None
+
+
 def test_input_fields():
     pts = example_points()
     e = error_of(fairspline.fit, pts, kinds=["smooth"] * 3 + ["pointy"] + ["smooth"] * 3)

@@ -102,7 +102,9 @@ std::string_view solver_status_name(SolverStatus status);
 /// Inverse of solver_status_name; anything else throws kInvalidArgument.
 SolverStatus parse_solver_status(std::string_view text);
 
-/// {"error": {"code": "repeated_point", "message": "...", "index": 3 or null}}
+/// {"error": {"code": "repeated_point", "message": "...", "index": 3 or null}}, plus
+/// "hint": {"option": name, "value": value or null} when an option would get past the error
+/// (Error::hint).
 nlohmann::json error_to_json(const Error& error);
 
 /// "none" | "basic" | "full" -> ReportLevel; anything else throws kInvalidArgument.
