@@ -91,26 +91,28 @@ export async function eventually(probe, ms = 5000) {
 /**
  * Watches the page's POST /api/fit requests: `requests` holds their bodies, `settled()` waits
  * until none is in flight and none was sent for 300 ms (10× the editor's debounce), so that
- * what is drawn is the fit of the current state.
+ * what is drawn is the fit of the current state. A navigation drops the requests of the page
+ * it leaves: one cut off by it gets neither requestfinished nor requestfailed, and counting it
+ * made every later settled() wait its full 10 s.
  */
 export function trackFits(page) {
   const requests = [];
-  let inFlight = 0;
+  const inFlight = new Set();
   let lastActivity = Date.now();
   const isFit = (r) => r.url().endsWith('/api/fit');
   page.on('request', (r) => {
     if (!isFit(r)) return;
     requests.push(JSON.parse(r.postData()));
-    inFlight += 1;
+    inFlight.add(r);
     lastActivity = Date.now();
   });
   const done = (r) => {
-    if (!isFit(r)) return;
-    inFlight -= 1;
+    if (!inFlight.delete(r)) return;
     lastActivity = Date.now();
   };
   page.on('requestfinished', done);
   page.on('requestfailed', done);
-  const settled = () => eventually(() => inFlight === 0 && Date.now() - lastActivity > 300, 10000);
+  page.on('framenavigated', (frame) => { if (frame === page.mainFrame()) inFlight.clear(); });
+  const settled = () => eventually(() => inFlight.size === 0 && Date.now() - lastActivity > 300, 10000);
   return { requests, settled };
 }
