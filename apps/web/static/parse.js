@@ -1,6 +1,6 @@
-// Import of points: CSV (x,y per line, optional header, # comments) or the JSON request of
+// Import of points: CSV (x,y per line, optional header, # comments), the JSON request of
 // `fairspline fit` ({points, closed, kinds, tangents, radii, alpha, method, options} or a bare
-// array).
+// array), or its JSON result (the editor's Export JSON), whose "request" is what was given.
 // Throws Error with a sentence that names the line or the field.
 
 const KINDS = ['smooth', 'clamped', 'corner'];
@@ -21,9 +21,24 @@ function fromJson(text) {
   try { data = JSON.parse(text); } catch (e) { throw new Error(`invalid JSON: ${e.message}`); }
   if (Array.isArray(data)) return { points: toPoints(data) };
   if (!data || typeof data !== 'object') throw new Error('JSON must be an object or an array');
+  if (data.request && typeof data.request === 'object' && !Array.isArray(data.request)) {
+    // A result: its top-level points are the curve's (with a tangent fitted at every point);
+    // the request holds the input (its points where they differ from those), and the result
+    // the method and the options used.
+    data = {
+      ...data.request,
+      points: data.request.points ?? data.points,
+      closed: data.request.closed ?? data.closed,
+      method: data.method,
+      options: data.options,
+    };
+  }
   const out = { points: toPoints(data.points) };
   const n = out.points.length;
-  if (data.closed != null) out.closed = !!data.closed;
+  // A request says what it does not give: an open curve, centripetal knots (the library's
+  // defaults), not the editor's current settings.
+  out.closed = !!data.closed;
+  out.alpha = 0.5;
   if (data.kinds != null) {
     if (!Array.isArray(data.kinds) || data.kinds.length !== n) throw new Error(`"kinds" must list one kind per point (${n})`);
     data.kinds.forEach((k, i) => { if (!KINDS.includes(k)) throw new Error(`kinds[${i}]: expected smooth, clamped or corner, got ${JSON.stringify(k)}`); });
