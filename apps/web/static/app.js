@@ -16,14 +16,18 @@ const POINT_R_PX = 7;
 const ARROW_PX = 80;       // length of a new clamped tangent arrow
 const DRAG_SLOP_PX = 4;    // a press on the background that moves less is a click
 const KINDS = ['smooth', 'clamped', 'corner'];
-const PALETTE = ['#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2',
-  '#bcbd22', '#1f77b4', '#7f7f7f'];
+// One colour per registered method (12 ≥ the 11 methods), none of them near the comb's orange
+// (COMB_COLOR; an orange here once made jaklic-zagar's curve look like the comb).
+const PALETTE = ['#d62728', '#2ca02c', '#9467bd', '#1f77b4', '#17becf', '#8c564b', '#e377c2',
+  '#bcbd22', '#7f7f7f', '#393b79', '#637939', '#a55194'];
+const COMB_COLOR = '#e07b39';
 
 const $ = (id) => document.getElementById(id);
 const el = {
   canvas: $('canvas'), world: $('world'), method: $('method'), methodDesc: $('method-desc'),
   options: $('options'), closed: $('closed'), comb: $('comb'), plotToggle: $('plot-toggle'),
   ensemble: $('ensemble'), error: $('error-box'), errorText: $('error'), errorShow: $('error-show'),
+  errorHint: $('error-hint'),
   report: $('report'), legend: $('legend'), table: $('ensemble-table').tBodies[0],
   layerMain: $('layer-main'), layerEnsemble: $('layer-ensemble'), layerComb: $('layer-comb'),
   layerPoints: $('layer-points'), layerKinds: $('layer-kinds'), layerError: $('layer-error'),
