@@ -534,6 +534,12 @@ class Solver {
     return total;
   }
 
+  // The exact phase's barrier weights without a barrier phase before it.
+  void measure_weights() {
+    measure_scales();
+    held_weight_ = kHeldBarrier * torque_;
+  }
+
   // The energy's typical force on a position and torque on a direction at the current point:
   // the barrier weights' scales, renewed per stage as the curve straightens.
   void measure_scales() {
@@ -778,6 +784,13 @@ class Solver {
         b -= w * std::log(room * (2.0 * om - room) / (om * om));
       }
     }
+    if (pb.m.basis == MinEnergyBasis::kElastic) {  // the pair bounds |α − β| <= π
+      for (std::size_t s = 0; s < pb.spans(); ++s) {
+        const auto [a, be] = end_angles(pb, st, s);
+        const double room = std::max(kPi - std::abs(a - be), kBoxRounding * kPi);
+        b -= held_weight_ * std::log(room * (2.0 * kPi - room) / (kPi * kPi));
+      }
+    }
     return b;
   }
 
@@ -825,6 +838,20 @@ class Solver {
                      hi = std::max(om - x, kBoxRounding * om);
         add_function(dev, w * (1.0 / hi - 1.0 / lo), w * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
       }
+    }
+    // The elastic spline's pair bounds |α − β| = |θ_i + corner − θ_j| <= π, as the held boxes:
+    // a barrier of weight kHeldBarrier (the chord's angle cancels in α − β).
+    for (std::size_t s = 0; s < ns_ && pb_.m.basis == MinEnergyBasis::kElastic; ++s) {
+      const Node& a = pb_.node[s];
+      const Node& b = pb_.node[pb_.next(s)];
+      const Jet d = difference(slot_jet(pb_, pb_.slot[a.out]), slot_jet(pb_, pb_.slot[b.in]));
+      if (d.m == 0) continue;
+      const auto [al, be] = end_angles(pb_, st_, s);
+      const double x = al - be;
+      const double lo = std::max(kPi + x, kBoxRounding * kPi),
+                   hi = std::max(kPi - x, kBoxRounding * kPi);
+      add_function(d, held_weight_ * (1.0 / hi - 1.0 / lo),
+                   held_weight_ * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
     }
     for (const Node& nd : pb_.node) {
       if (mu == 0.0 || nd.var < 0 || nd.boundary) continue;
@@ -1132,33 +1159,66 @@ std::optional<std::vector<Point>> straight_line(const Problem& pb) {
 
 }  // namespace
 
+// The optimizer's phases on pb from its current point: the barrier phase (only from the
+// interpolation's start), the cross-over, the exact phase, and saddle escapes.
+Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barrier) {
+  Solver solver(pb, st, options);
+  Outcome res;
+  if (barrier) {
+    res = solver.barrier_phase();
+    solver.cross_over();
+  } else {
+    solver.measure_weights();
+  }
+  Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
+  // A stationary point where a span's E_1 is concave may be a saddle (by symmetry: a straight
+  // span between free ends for cond-G2 with λ > 3/2): leave it downhill, go on.
+  for (int k = 0; k < 8 && exact.converged && solver.escape(); ++k) {
+    const Outcome more = solver.run(0.0, options.max_iterations, solver.tol);
+    exact.converged = more.converged;
+    exact.stalled = more.stalled;
+    exact.residual = more.residual;
+    exact.worst = more.worst;
+    exact.iterations += more.iterations + 1;
+  }
+  exact.iterations += res.iterations;
+  return exact;
+}
+
 bool has_data_balls(const FitInput& input) {
   return std::any_of(input.radii.begin(), input.radii.end(), [](double r) { return r != 0.0; });
 }
 
 void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
                     FitResult& out, MinEnergyReport* report) {
-  // The interpolation through the centres: the input's checks, the start, the node model.
-  if (options.method.basis == MinEnergyBasis::kElastic) {
-    std::size_t given = input.points.size();
-    if (input.closed && given >= 2 && coincident(input.points[0], input.points[given - 1])) {
-      --given;
-    }
-    check_radii(input, given);
-    throw Error(ErrorCode::kInvalidArgument,
-                "data balls are fitted by the min-energy family and the restricted elastic "
-                "spline, not by the elastic spline (its energy has ridges the data-ball "
-                "optimizer does not handle); use restricted-elastic or radius 0",
-                0);
+  // The elastic spline: first the restricted elastic one (the same energy within |α|, |β| <=
+  // 90°), whose optimum is the elastic one's unless a direction is on that box; then, from it,
+  // the elastic energy with the box widened to Ω.
+  const bool elastic = options.method.basis == MinEnergyBasis::kElastic;
+  MinEnergyOptions opt = options;
+  if (elastic) {
+    opt.method.basis = MinEnergyBasis::kRestrictedElastic;
+    opt.method.omega = std::min(options.method.omega,
+                                BasicCurveMethod::default_omega(MinEnergyBasis::kRestrictedElastic));
   }
+  // The interpolation through the centres: the input's checks, the start, the node model.
   SpanDirections dirs;
-  MinEnergyOptions start = options;
+  MinEnergyOptions start = opt;
   start.best_effort = true;
-  fit_min_energy_at(input, start, ReportLevel::kNone, out, nullptr, nullptr, &dirs);
+  try {
+    fit_min_energy_at(input, start, ReportLevel::kNone, out, nullptr, nullptr, &dirs);
+  } catch (const Error& e) {
+    // Centres that turn beyond 2·90° somewhere: the elastic energy from the start.
+    if (!elastic || e.code() != ErrorCode::kInfeasible) throw;
+    opt = options;
+    start = opt;
+    start.best_effort = true;
+    fit_min_energy_at(input, start, ReportLevel::kNone, out, nullptr, nullptr, &dirs);
+  }
   const std::size_t n = out.points.size();
   Problem pb;
-  pb.m = options.method;
-  pb.omega = options.method.omega;
+  pb.m = opt.method;
+  pb.omega = opt.method.omega;
   pb.closed = out.closed;
   pb.node.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -1259,25 +1319,16 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     res.converged = true;
     res.residual = 0.0;
   } else {
-    Solver solver(pb, st, options);
-    res = solver.barrier_phase();
-    solver.cross_over();
-    Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
-    // A stationary point where a span's E_1 is concave may be a saddle (by symmetry: a
-    // straight span between free ends for cond-G2 with λ > 3/2): leave it downhill, go on.
-    for (int k = 0; k < 8 && exact.converged && solver.escape(); ++k) {
-      const Outcome more = solver.run(0.0, options.max_iterations, solver.tol);
-      exact.converged = more.converged;
-      exact.stalled = more.stalled;
-      exact.residual = more.residual;
-      exact.worst = more.worst;
-      exact.iterations += more.iterations + 1;
+    res = solve(pb, st, opt, true);
+    if (elastic && pb.m.basis != MinEnergyBasis::kElastic && (res.converged || res.stalled) &&
+        std::any_of(pb.slot.begin(), pb.slot.end(), [](const Slot& sl) { return sl.active >= 0; })) {
+      const int before = res.iterations;
+      pb.m = options.method;
+      pb.omega = options.method.omega;
+      for (Slot& sl : pb.slot) sl.active = -1;
+      res = solve(pb, st, options, false);
+      res.iterations += before;
     }
-    res.iterations += exact.iterations;
-    res.converged = exact.converged;
-    res.stalled = exact.stalled;
-    res.residual = exact.residual;
-    res.worst = exact.worst;
   }
   const int iterations = res.iterations;
   const bool converged = res.converged,
@@ -1290,6 +1341,16 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
                   "the data-ball optimizer cannot start: the curve through the centres turns by "
                   "the most its directions allow (2 omega) at a point whose position bounds it; "
                   "give the balls there radius 0 or remove a point",
+                  worst);
+    }
+    if (elastic && pb.m.basis == MinEnergyBasis::kElastic) {
+      throw Error(ErrorCode::kNotConverged,
+                  "the data-ball optimizer did not converge with the elastic spline (KKT "
+                  "residual " +
+                      format_number(residual) +
+                      ", largest at this point): where a piece turns by more than a right angle "
+                      "its energy has kinks (U-turn pieces, half turns) the optimizer does not "
+                      "handle; the restricted elastic spline fits these balls",
                   worst);
     }
     throw Error(ErrorCode::kNotConverged,

@@ -34,14 +34,12 @@ void fit_elastic(const FitInput& input, const ElasticOptions& options, ReportLev
 namespace {
 
 // The framework's node kinds; examples with sharp turns, where the pieces are far from cubics.
-// Data balls: the restricted spline only (the elastic energy's ridges and coupled constraints
-// are not in the data-ball optimizer).
-Capabilities elastic_capabilities(bool restricted) {
+Capabilities elastic_capabilities() {
   Capabilities caps{
       .kinds = {PointKind::kSmooth, PointKind::kClamped, PointKind::kCorner},
       .continuity = Continuity::kG2,
       .node_states = true,
-      .data_balls = restricted,
+      .data_balls = true,
       .examples = {R"({"points": [[1,90],[3,105],[6,120],[10,100],[12,85],[15,104],[17,80]]})",
                    R"({"points": [[0,0],[3,0],[1,1],[3,2],[0,2]], "closed": true})",
                    R"({"points": [[0,0],[2,1],[4,0],[6,1]], "kinds": ["clamped","smooth",
@@ -94,7 +92,7 @@ MethodInfo make(bool restricted) {
             opt.best_effort = f.best_effort;
             fit_elastic(in, opt, f.level, out);
           },
-      .capabilities = elastic_capabilities(restricted),
+      .capabilities = elastic_capabilities(),
       .report_units = detail::min_energy_report_units(),
   };
 }

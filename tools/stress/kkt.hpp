@@ -527,7 +527,8 @@ inline KktResult check_g2_breakpoints(const FitInput& in, const FitResult& r) {
 /// turns with that chord, so its torque (the bound's multiplier) adds to the forces on the
 /// chord's ends; next to a given direction on a bound, or a direction on both of its bounds (a
 /// stencil at 2Ω), the multiplier of a constraint on positions is not known here: those balls
-/// are not checked, nor the ends of a chord below 1e-6 of the coordinates. Forces are measured as
+/// are not checked, nor the ends of a chord below 1e-6 of the coordinates, nor those of an
+/// elastic span on its pair bound |α − β| = π. Forces are measured as
 /// the solver measures them: times the shorter adjacent chord, over max 1/L. Positions must lie in
 /// their discs to the rounding of their coordinates.
 inline KktResult check_balls(const FitInput& in, const FitResult& r, const BasicCurveMethod& m) {
@@ -583,6 +584,12 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   for (const Point& q : r.points) size = std::max({size, std::abs(q.x), std::abs(q.y)});
   for (std::size_t s = 0; s < spans; ++s) {
     if (len[s] < 1e-6 * size) skip_span(s);
+    // The elastic spline's pair bound |α − β| = π (held by the solver's barrier): E_1's
+    // partial derivatives are infinite there (only their sum, the turn of both, is finite).
+    if (m.basis == MinEnergyBasis::kElastic &&
+        std::abs(al[s] - be[s]) >= std::numbers::pi * (1.0 - 1e-5)) {
+      skip_span(s);
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     const bool has_out = r.closed || i + 1 < n, has_in = r.closed || i > 0;
