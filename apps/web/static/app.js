@@ -40,7 +40,7 @@ const el = {
 };
 
 const state = {
-  points: [],          // [[x, y], ...] in world coordinates
+  points: [],          // [[x, y], ...] in world coordinates (see freshState for the rest)
   kinds: [],           // 'smooth' | 'clamped' | 'corner', one per point
   tangents: [],        // arrow [dx, dy] of clamped points (world units; see knotSpan), else null
   radii: [],           // data-ball radius per point (0: the curve passes through the point)
@@ -58,7 +58,8 @@ const state = {
 
 let schema = { default: null, methods: [] };
 let mainFit = null;            // last successful answer for the main method
-let mainError = null;          // {code, message, index} of the last failed main fit
+let mainStale = false;         // mainFit is the last good fit of an earlier state (drawn dimmed)
+let mainError = null;          // {code, message, index, hint} of the last failed main fit
 let mainTiming = null;         // {server, roundTrip} in ms of the last main fit
 let lastDrawMs = null;         // time render() took after the last fit
 let editSince = null;          // performance.now() of the oldest edit not yet sent to the server
@@ -81,11 +82,12 @@ const colorOf = (name) => PALETTE[Math.max(0, schema.methods.findIndex((m) => m.
 /** World units per pixel of the default view: sizes that must look the same at any zoom. */
 const unit = () => state.view.w / FRAME_W;
 
-// ---------- undo / redo over point edits ----------
+// ---------- undo / redo over the data and the fit's settings ----------
 
 const HISTORY_LIMIT = 200;
 const undoStack = [];
 const redoStack = [];
+let historyKey = null; // the control whose edits the last undo step collects (see pushHistory)
 
 const snapshot = () => ({
   points: state.points.map(([x, y]) => [x, y]),
@@ -93,10 +95,19 @@ const snapshot = () => ({
   tangents: state.tangents.map((t) => (t ? [...t] : null)),
   radii: [...state.radii],
   closed: state.closed,
+  alpha: state.alpha,
+  method: state.method,
+  options: structuredClone(state.options),
 });
 
-/** Records the state before an edit; call it once per user action (one drag = one step). */
-function pushHistory() {
+/**
+ * Records the state before an edit; call it once per user action (one drag = one step). A `key`
+ * names a control whose keystrokes make one step together (typing "0.5" is one edit, not
+ * three) until endHistoryGroup() or another action.
+ */
+function pushHistory(key = null) {
+  if (key != null && key === historyKey) return;
+  historyKey = key;
   undoStack.push(snapshot());
   if (undoStack.length > HISTORY_LIMIT) undoStack.shift();
   redoStack.length = 0;
@@ -104,16 +115,27 @@ function pushHistory() {
   updateHistoryButtons();
 }
 
+function endHistoryGroup() {
+  historyKey = null;
+}
+
 function restore(snap) {
+  const settings = snap.method !== state.method || JSON.stringify(snap.options) !== JSON.stringify(state.options);
   state.points = snap.points;
   state.kinds = snap.kinds;
   state.tangents = snap.tangents;
   state.radii = snap.radii;
   state.closed = snap.closed;
+  state.alpha = snap.alpha;
+  state.method = snap.method;
+  state.options = snap.options;
   el.closed.checked = state.closed;
+  syncAlphaControl();
+  if (settings) { el.method.value = state.method; buildOptionsForm(); }
   state.selected = -1;
   drag = null;
   importError = null;
+  historyKey = null;
   forgetErrorIndex();
   updateHistoryButtons();
   changed();
@@ -183,12 +205,27 @@ function knotSpan(i) {
 const arrowToTangent = (a, i) => (a ? [(3 * a[0]) / knotSpan(i), (3 * a[1]) / knotSpan(i)] : null);
 const tangentToArrow = (t, i) => (t ? [(t[0] * knotSpan(i)) / 3, (t[1] * knotSpan(i)) / 3] : null);
 
+/**
+ * The main fit's index of editor point i: the same, except after the points the method inserted
+ * (jaklic-zagar's reversal=insert lists them, sorted, in method_report.inserted); -1 when no
+ * fit of the current points is on screen (none yet, or the last good one of an earlier state).
+ */
+function fitIndexOf(i) {
+  if (!mainFit || mainStale) return -1;
+  const inserted = mainFit.method_report?.inserted ?? [];
+  if (mainFit.points?.length !== state.points.length + inserted.length) return -1;
+  let k = i;
+  for (const j of inserted) if (j <= k) k += 1;
+  return k;
+}
+
 /** The arrow that reproduces the last fit at point i: its control arm there when the fit has a
  * segment starting (or, at the end, ending) at i; else the chord direction, ARROW_PX long. */
 function currentArrow(i) {
-  const segs = mainFit && mainFit.points.length === state.points.length ? mainFit.segments : [];
-  const after = segs.find((s) => s.span === i && s.t0 === mainFit.knots[i]);
-  const before = segs.find((s) => s.span === i - 1 && s.t1 === mainFit.knots[i]);
+  const k = fitIndexOf(i);
+  const segs = k >= 0 ? mainFit.segments : [];
+  const after = segs.find((s) => s.span === k && s.t0 === mainFit.knots[k]);
+  const before = segs.find((s) => s.span === k - 1 && s.t1 === mainFit.knots[k]);
   const arm = after ? [after.bezier[1][0] - after.bezier[0][0], after.bezier[1][1] - after.bezier[0][1]]
     : before ? [before.bezier[3][0] - before.bezier[2][0], before.bezier[3][1] - before.bezier[2][1]] : null;
   if (arm && Math.hypot(...arm) > 0) return arm;
@@ -235,7 +272,16 @@ function saveHash() {
   history.replaceState(null, '', `#${encodeURIComponent(JSON.stringify(data))}`);
 }
 
+/** The state of an empty editor. */
+const freshState = () => ({
+  points: [], kinds: [], tangents: [], radii: [], closed: false, alpha: 0.5, method: schema.default,
+  options: {}, ensemble: new Set(), comb: false, polygon: false, plot: true,
+  view: { x: 0, y: 0, w: FRAME_W }, selected: -1,
+});
+
+/** The state the URL hash gives (what it leaves out as in an empty editor). */
 function loadHash() {
+  Object.assign(state, freshState());
   if (location.hash.length < 2) return;
   try {
     const data = JSON.parse(decodeURIComponent(location.hash.slice(1)));
@@ -276,7 +322,11 @@ function loadHash() {
 
 // ---------- options form ----------
 
-function setOption(name, value) {
+/** Sets (undefined: clears) an option; `typing`: one of a text field's keystrokes, which make
+ * one undo step together until the field's change event. */
+function setOption(name, value, typing = false) {
+  if (JSON.stringify(state.options[name]) === JSON.stringify(value)) return;
+  pushHistory(typing ? `option:${name}` : null);
   if (value === undefined) delete state.options[name];
   else state.options[name] = value;
   changed();
@@ -295,6 +345,7 @@ function numberInput(opt, value, onValue) {
     input.classList.toggle('invalid', !Number.isFinite(v));
     if (Number.isFinite(v)) onValue(opt.type === 'integer' ? Math.round(v) : v);
   });
+  input.addEventListener('change', endHistoryGroup);
   return input;
 }
 
@@ -304,7 +355,7 @@ function optionControl(opt) {
   switch (opt.type) {
     case 'number':
     case 'integer': {
-      const input = numberInput(opt, current ?? opt.default, (v) => setOption(opt.name, v));
+      const input = numberInput(opt, current ?? opt.default, (v) => setOption(opt.name, v, true));
       input.dataset.testid = id;
       if (opt.default == null) input.placeholder = 'default';
       return input;
@@ -335,7 +386,7 @@ function optionControl(opt) {
       select.add(new Option('number', '#number'));
       select.dataset.testid = id;
       const input = numberInput(opt, typeof value === 'number' ? value : null, (v) => {
-        if (select.value === '#number') setOption(opt.name, v);
+        if (select.value === '#number') setOption(opt.name, v, true);
       });
       input.dataset.testid = `${id}-number`;
       select.value = typeof value === 'number' ? '#number' : (value ?? '#number');
@@ -357,12 +408,13 @@ function optionControl(opt) {
       input.dataset.testid = id;
       input.addEventListener('input', () => {
         const text = input.value.trim();
-        if (text === '') { input.classList.remove('invalid'); return setOption(opt.name, undefined); }
+        if (text === '') { input.classList.remove('invalid'); return setOption(opt.name, undefined, true); }
         const list = text.replace(/^\[|\]$/g, '').split(/[\s,;]+/).filter(Boolean).map(Number);
         const ok = list.every(Number.isFinite);
         input.classList.toggle('invalid', !ok);
-        if (ok) setOption(opt.name, list);
+        if (ok) setOption(opt.name, list, true);
       });
+      input.addEventListener('change', endHistoryGroup);
       return input;
     }
     default: {
@@ -373,7 +425,8 @@ function optionControl(opt) {
       input.setAttribute('list', 'method-names');
       input.placeholder = '(none)';
       input.dataset.testid = id;
-      input.addEventListener('input', () => setOption(opt.name, input.value === '' ? undefined : input.value));
+      input.addEventListener('input', () => setOption(opt.name, input.value === '' ? undefined : input.value, true));
+      input.addEventListener('change', endHistoryGroup);
       return input;
     }
   }
@@ -514,18 +567,28 @@ async function runFit() {
   const since = editSince;
   editSince = null;
   try {
-    if (state.points.length < 2 || !state.method) {
+    if (!state.points.length || !state.method) {
       mainFit = null;
+      mainStale = false;
       mainError = null;
       mainTiming = null;
       ensembleFits.clear();
     } else {
+      // One point is fitted too: the method's own "needs at least 2 points" is the message.
       const names = [...state.ensemble].filter((n) => methodInfo(n));
       const [main, ...others] = await Promise.all([
         postFit(state.method, state.options),
         ...names.map((n) => postFit(n, null)),
       ]);
-      mainFit = main.fit ?? null;
+      // A failed fit keeps the last good curve, dimmed, next to its error (also mid-drag).
+      if (main.fit) {
+        mainFit = main.fit;
+        mainStale = false;
+      } else if (mainFit && state.points.length >= 2) {
+        mainStale = true;
+      } else {
+        mainFit = null;
+      }
       mainError = main.error ?? null;
       mainTiming = main.ms ?? null;
       ensembleFits.clear();
@@ -673,13 +736,26 @@ function renderPoints() {
 function renderKinds() {
   el.layerKinds.replaceChildren();
   const u = unit();
-  const balls = mainFit?.method_report?.balls;
+  const balls = fitIndexOf(0) >= 0 ? mainFit.method_report?.balls : null;
   const onCircle = new Set(balls?.active ?? []);
+  // Points the method inserted (jaklic-zagar, reversal=insert): the curve passes through them,
+  // so they are drawn, smaller and not draggable.
+  if (fitIndexOf(0) >= 0) {
+    for (const k of mainFit.method_report?.inserted ?? []) {
+      const [x, y] = mainFit.points[k];
+      const h = 0.7 * POINT_R_PX * u;
+      const mark = svg('rect', { x: x - h, y: y - h, width: 2 * h, height: 2 * h, class: 'inserted', 'data-testid': `inserted-${k}` });
+      const title = svg('title');
+      title.textContent = `point inserted by ${mainFit.method} (fit point ${k})`;
+      mark.append(title);
+      el.layerKinds.append(mark);
+    }
+  }
   state.points.forEach(([x, y], i) => {
     const r = state.radii[i] ?? 0;
     if (r > 0) {
       el.layerKinds.append(svg('circle', { cx: x, cy: y, r, class: 'ball', 'data-testid': `ball-${i}` }));
-      const chosen = balls && mainFit.points?.[i];
+      const chosen = balls && mainFit.points?.[fitIndexOf(i)];
       if (chosen) {
         el.layerKinds.append(svg('circle', {
           cx: chosen[0], cy: chosen[1], r: 0.6 * POINT_R_PX * u,
@@ -727,6 +803,7 @@ function renderSelection() {
 /** Curvature comb of the main curve: teeth along the normal, length ∝ signed curvature. */
 function renderComb() {
   el.layerComb.replaceChildren();
+  el.layerComb.classList.toggle('stale', mainStale);
   if (!state.comb || !mainFit) return;
   const samples = sampleCurve(mainFit.segments, COMB_SAMPLES).filter((s) => s.kappa != null);
   const kmax = Math.max(1e-300, ...samples.map((s) => Math.abs(s.kappa)));
@@ -744,6 +821,7 @@ function renderComb() {
 /** The control polygon p0–p1–p2–p3 of every segment of the main curve. */
 function renderControlPolygon() {
   el.layerControl.replaceChildren();
+  el.layerControl.classList.toggle('stale', mainStale);
   if (!state.polygon || !mainFit) return;
   for (const { bezier } of mainFit.segments) {
     el.layerControl.append(svg('polyline', { points: bezier.map((p) => p.join(',')).join(' ') }));
@@ -756,7 +834,7 @@ function renderPlot() {
   if (!state.plot) return;
   const curves = [];
   const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(4, Math.ceil(PLOT_SAMPLES / segments.length))));
-  if (mainFit) curves.push({ name: state.method, color: 'var(--fg)', main: true, samples: samples(mainFit.segments) });
+  if (mainFit) curves.push({ name: mainFit.method, color: 'var(--fg)', main: true, stale: mainStale, samples: samples(mainFit.segments) });
   for (const [name, r] of ensembleFits) {
     if (r.fit) curves.push({ name, color: colorOf(name), main: false, samples: samples(r.fit.segments) });
   }
@@ -766,7 +844,7 @@ function renderPlot() {
 function renderTable() {
   el.table.replaceChildren();
   const rows = [];
-  if (mainFit || mainError) rows.push([`${state.method} (main)`, mainFit ? { fit: mainFit } : { error: mainError }, state.method]);
+  if (mainFit || mainError) rows.push([`${state.method} (main)`, mainError ? { error: mainError } : { fit: mainFit }, state.method]);
   for (const [name, result] of ensembleFits) rows.push([name, result, name]);
   for (const [label, result, name] of rows) {
     const tr = document.createElement('tr');
@@ -797,12 +875,15 @@ function renderTable() {
 
 function render() {
   el.layerMain.replaceChildren();
+  el.layerMain.classList.toggle('stale', mainStale);
   if (mainFit) {
-    el.layerMain.append(svg('path', { d: pathData(mainFit.segments), 'data-testid': `curve-${mainFit.method}` }));
+    const path = svg('path', { d: pathData(mainFit.segments), 'data-testid': `curve-${mainFit.method}` });
+    if (mainStale) path.dataset.stale = '';
+    el.layerMain.append(path);
   }
   el.layerEnsemble.replaceChildren();
   el.legend.replaceChildren();
-  if (mainFit) addLegend(`${mainFit.method} (main)`, 'var(--fg)');
+  if (mainFit) addLegend(`${mainFit.method} (main${mainStale ? ', last good fit' : ''})`, 'var(--fg)');
   for (const [name, result] of ensembleFits) {
     if (!result.fit) continue;
     const color = colorOf(name);
@@ -828,7 +909,7 @@ function renderReport() {
   const balls = mainFit?.method_report?.balls;
   const ballText = balls ? ` · data balls ${balls.active.length} of ${balls.count} on their circle (${balls.status})` : '';
   el.report.textContent = r
-    ? `${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${ballText}${timing}`
+    ? `${mainStale ? 'last good fit: ' : ''}${mainFit.segments.length} segments · bending ${fmt(r.bending_energy)} · length ${fmt(r.length)} · max tangent jump ${fmt(r.max_tangent_angle_jump_deg)}°${ballText}${timing}`
     : '';
 }
 
@@ -839,9 +920,37 @@ function renderError() {
   el.errorText.textContent = text;
   el.error.title = text;
   el.error.hidden = !text;
+  // "Add another point" is where a curve starts, not a failure.
+  el.error.classList.toggle('info', !importError && mainError?.code === 'too_few_points');
   const p = state.points[mainError?.index ?? -1];
   el.errorShow.hidden = importError != null || !p || pointVisible(p);
+  // The library names the option that gets past the error; here it is a button.
+  const hint = !importError && mainError?.hint;
+  const spec = hint && methodInfo(state.method)?.options?.find((o) => o.name === hint.option);
+  el.errorHint.hidden = !spec;
+  if (spec) {
+    el.errorHint.textContent = hint.value == null ? `set the option ${spec.name}` : `set ${spec.name} to ${hint.value}`;
+    el.errorHint.title = spec.doc ?? '';
+  }
   renderErrorMarker();
+}
+
+/** Applies the error's hint: sets the option (one undo step), or shows its control when the
+ * hint leaves the value to the user. */
+function applyHint() {
+  const hint = mainError?.hint;
+  const spec = hint && methodInfo(state.method)?.options?.find((o) => o.name === hint.option);
+  if (!spec) return;
+  if (hint.value == null) {
+    el.options.querySelector(`[data-testid="option-${spec.name}"]`)?.focus();
+    return;
+  }
+  const num = Number(hint.value);
+  const value = spec.type === 'boolean' ? hint.value === 'true'
+    : (spec.type === 'number' || spec.type === 'integer' || (spec.type === 'choice_or_number' && !spec.choices?.includes(hint.value))) && Number.isFinite(num) ? num
+      : hint.value;
+  setOption(spec.name, value);
+  buildOptionsForm();
 }
 
 /** A label next to the offending point, or at the edge of the view pointing towards it. */
@@ -893,7 +1002,16 @@ function swallowNextClick() {
   setTimeout(() => { suppressClick = false; }, 0);
 }
 
+// Keyboard shortcuts act on the canvas whenever the pointer was last pressed there: the press
+// takes the focus from whichever panel control had it (a press on a point is preventDefault-ed,
+// which keeps the focus where it was: a dropdown's type-ahead then took K, a number field
+// Backspace). A panel control that gets the focus afterwards (click or Tab) has the keys again.
+let pointerOnCanvas = false;
+window.addEventListener('pointerdown', (evt) => { pointerOnCanvas = el.canvas.contains(evt.target); }, true);
+document.addEventListener('focusin', (evt) => { if (!el.canvas.contains(evt.target)) pointerOnCanvas = false; });
+
 el.canvas.addEventListener('pointerdown', (evt) => {
+  el.canvas.focus({ preventScroll: true });
   const { index, handle } = evt.target.dataset ?? {};
   if (evt.button === 1 || (evt.button === 0 && index === undefined && handle === undefined)) {
     // Background (or middle button anywhere): a click adds a point, a drag pans.
@@ -963,16 +1081,43 @@ el.canvas.addEventListener('wheel', (evt) => {
   zoomAbout(Math.exp(-delta * 0.0015), toUser(evt.clientX, evt.clientY));
 }, { passive: false });
 
-/** Alt-click: inserts a point after the start point of the main-curve segment nearest to q. */
+/**
+ * Alt-click: inserts a point into the span of the main curve nearest to q (segment s runs from
+ * the fit's point s to s + 1; points the method inserted are not the editor's); without a fit
+ * of the current points, into the nearest chord of the polygon.
+ */
 function insertOnCurve(q) {
-  if (!mainFit?.segments?.length) return;
-  // Segment i runs from point i to point i+1 (the last one closes the loop when closed).
-  const at = Math.min(nearestSegment(mainFit.segments, q) + 1, state.points.length);
-  insertPoint(at, q);
+  const n = state.points.length;
+  if (n < 2) return;
+  let at;
+  if (fitIndexOf(0) >= 0 && mainFit.segments.length) {
+    const s = nearestSegment(mainFit.segments, q);
+    const inserted = new Set(mainFit.method_report?.inserted ?? []);
+    at = 0;
+    for (let k = 0; k <= s; k++) if (!inserted.has(k)) at += 1;
+  } else {
+    let best = Infinity;
+    const chords = state.closed ? n : n - 1;
+    for (let i = 0; i < chords; i++) {
+      const a = state.points[i], b = state.points[(i + 1) % n];
+      const d = [b[0] - a[0], b[1] - a[1]];
+      const t = Math.min(1, Math.max(0, ((q[0] - a[0]) * d[0] + (q[1] - a[1]) * d[1]) / (d[0] ** 2 + d[1] ** 2 || 1)));
+      const dist = Math.hypot(a[0] + t * d[0] - q[0], a[1] + t * d[1] - q[1]);
+      if (dist < best) { best = dist; at = i + 1; }
+    }
+  }
+  insertPoint(Math.min(at, n), q);
+}
+
+/** Controls that use letters, digits, Backspace and Ctrl+Z themselves; buttons, check boxes and
+ * radio buttons use none of the shortcuts' keys. */
+function typesText(target) {
+  if (target instanceof HTMLInputElement) return !['checkbox', 'radio', 'button', 'submit', 'reset', 'file', 'range', 'color'].includes(target.type);
+  return target instanceof HTMLSelectElement || target instanceof HTMLTextAreaElement || !!target?.isContentEditable;
 }
 
 window.addEventListener('keydown', (evt) => {
-  if (evt.target instanceof HTMLInputElement || evt.target instanceof HTMLSelectElement || evt.target instanceof HTMLTextAreaElement) return;
+  if (!pointerOnCanvas && typesText(evt.target)) return;
   const key = evt.key.toLowerCase();
   if ((evt.ctrlKey || evt.metaKey) && (key === 'z' || key === 'y')) {
     evt.preventDefault();
@@ -981,7 +1126,6 @@ window.addEventListener('keydown', (evt) => {
   }
   if (evt.ctrlKey || evt.metaKey || evt.altKey) return;
   if ((evt.key === 'Delete' || evt.key === 'Backspace') && state.selected >= 0) {
-    evt.preventDefault();
     removePoint(state.selected);
   } else if (evt.key === 'Escape') {
     state.selected = -1;
@@ -996,7 +1140,10 @@ window.addEventListener('keydown', (evt) => {
     zoomCenter(0.8);
   } else if (key === 'f') {
     fitView();
+  } else {
+    return;
   }
+  evt.preventDefault(); // the key was the canvas's, not a control's
 });
 
 // ---------- exports ----------
@@ -1012,15 +1159,22 @@ function download(filename, text, type) {
   setTimeout(() => URL.revokeObjectURL(url), 1000);
 }
 
-/** A standalone SVG of the curves, comb and points, y axis up like the editor. */
+/** A standalone SVG of the curves, comb and points, y axis up like the editor. The view box
+ * holds everything drawn: points, control polygons (which bound the curves) and comb teeth. */
 function exportSvgText() {
   const xs = [], ys = [];
   const addPt = ([x, y]) => { xs.push(x); ys.push(y); };
   state.points.forEach(addPt);
   const curves = [];
-  if (mainFit) curves.push({ fit: mainFit, color: '#1d2330', width: 2.5 });
+  // The last good curve of an earlier state is not this document's curve.
+  if (mainFit && !mainStale) curves.push({ fit: mainFit, color: '#1d2330', width: 2.5 });
   for (const [name, r] of ensembleFits) if (r.fit) curves.push({ fit: r.fit, color: colorOf(name), width: 1.6 });
   for (const c of curves) for (const s of c.fit.segments) s.bezier.forEach(addPt);
+  const comb = state.comb && !mainStale ? [...el.layerComb.children].filter((node) => node.tagName === 'line') : [];
+  for (const node of comb) {
+    addPt([Number(node.getAttribute('x1')), Number(node.getAttribute('y1'))]);
+    addPt([Number(node.getAttribute('x2')), Number(node.getAttribute('y2'))]);
+  }
   if (!xs.length) { addPt([0, 0]); addPt([FRAME_W, FRAME_H]); }
   const x0 = Math.min(...xs), x1 = Math.max(...xs);
   const y0 = Math.min(...ys), y1 = Math.max(...ys);
@@ -1035,13 +1189,9 @@ function exportSvgText() {
   for (const c of curves) {
     lines.push(`<path d="${pathData(c.fit.segments)}" stroke="${c.color}" ${stroke(c.width)} data-method="${c.fit.method}"/>`);
   }
-  if (state.comb) {
-    for (const node of el.layerComb.children) {
-      if (node.tagName === 'line') {
-        const a = ['x1', 'y1', 'x2', 'y2'].map((k) => `${k}="${node.getAttribute(k)}"`).join(' ');
-        lines.push(`<line ${a} stroke="#e07b39" ${stroke(0.8)}/>`);
-      }
-    }
+  for (const node of comb) {
+    const a = ['x1', 'y1', 'x2', 'y2'].map((k) => `${k}="${node.getAttribute(k)}"`).join(' ');
+    lines.push(`<line ${a} stroke="${COMB_COLOR}" ${stroke(0.8)}/>`);
   }
   for (const [x, y] of state.points) lines.push(`<circle cx="${x}" cy="${y}" r="${4 / px}" fill="#fff" stroke="#1d4ed8" ${stroke(1.5)}/>`);
   lines.push('</g>', '</svg>', '');
@@ -1054,8 +1204,20 @@ $('export-svg').addEventListener('click', () => {
   download(`fairspline-${state.method ?? 'curve'}.svg`, text, 'image/svg+xml');
 });
 
+/**
+ * The JSON export: the fit of the main curve as `fairspline fit` writes it, whose "request"
+ * (points where they differ from the result's, closed, alpha, kinds, tangents only where given,
+ * radii) and "method"/"options" are what Import reads back. Without a fit of the current data
+ * (an error), the same fields with the error instead of the curve.
+ */
+function exportJsonText() {
+  if (mainFit && !mainStale) return JSON.stringify(mainFit, null, 2);
+  const { method, options, ...request } = requestBody(state.method, state.options);
+  return JSON.stringify({ method, options: options ?? {}, request, error: mainError }, null, 2);
+}
+
 $('export-json').addEventListener('click', () => {
-  const text = JSON.stringify(mainFit ?? { error: mainError }, null, 2);
+  const text = exportJsonText();
   el.jsonText.value = text;
   download(`fairspline-${state.method ?? 'curve'}.json`, text, 'application/json');
 });
@@ -1075,6 +1237,13 @@ $('export-csv').addEventListener('click', () => {
 
 // ---------- import ----------
 
+/** The options that differ from the method's defaults (a result lists every option it used). */
+function withoutDefaults(method, options) {
+  const specs = new Map((methodInfo(method)?.options ?? []).map((o) => [o.name, o]));
+  return Object.fromEntries(Object.entries(options).filter(([name, v]) =>
+    !specs.has(name) || JSON.stringify(specs.get(name).default) !== JSON.stringify(v)));
+}
+
 /** Imports CSV/JSON text (pasted or from a file); an error leaves everything as it was. */
 function importText(text, source) {
   let parsed;
@@ -1090,7 +1259,7 @@ function importText(text, source) {
   if (parsed.alpha != null) { state.alpha = parsed.alpha; syncAlphaControl(); }
   if (parsed.method && methodInfo(parsed.method)) {
     state.method = parsed.method;
-    state.options = parsed.options ?? {};
+    state.options = withoutDefaults(state.method, parsed.options ?? {});
     el.method.value = state.method;
     buildOptionsForm();
   }
@@ -1133,6 +1302,7 @@ function replacePoints(points, kinds = null, radii = null) {
   state.radii = radii ?? Array(points.length).fill(0);
   state.selected = -1;
   mainFit = null;
+  mainStale = false;
   mainError = null;
   ensembleFits.clear();
   render();
@@ -1146,31 +1316,43 @@ $('clear').addEventListener('click', () => {
 
 // ---------- controls and start-up ----------
 
-el.method.addEventListener('change', () => {
-  state.method = el.method.value;
+/** Switches the main method (its options back to their defaults); one undo step. The last
+ * good curve stays on screen, dimmed, until the new method's fit arrives. */
+function setMethod(name) {
+  if (name === state.method) return;
+  pushHistory();
+  mainStale = mainFit != null; // arrows and insertions must not read the old method's curve
+  state.method = name;
   state.options = {};
-  mainFit = null;
+  el.method.value = name;
   buildOptionsForm();
   changed();
-});
+}
+
+el.method.addEventListener('change', () => setMethod(el.method.value));
 el.closed.addEventListener('change', () => {
-  // The box shows the new value already: record the state before it.
-  undoStack.push({ ...snapshot(), closed: !el.closed.checked });
-  redoStack.length = 0;
-  updateHistoryButtons();
+  // The box shows the new value already; state.closed still holds the old one.
+  pushHistory();
   state.closed = el.closed.checked;
   changed();
 });
+function setAlpha(v, typing = false) {
+  if (v === state.alpha) return;
+  pushHistory(typing ? 'alpha' : null);
+  state.alpha = v;
+  changed();
+}
 el.alpha.addEventListener('change', () => {
   el.alphaNumber.disabled = el.alpha.value !== '#number';
   const v = Number(el.alpha.value === '#number' ? el.alphaNumber.value : el.alpha.value);
-  if (Number.isFinite(v)) { state.alpha = v; el.alphaNumber.value = v; changed(); }
+  if (Number.isFinite(v)) { el.alphaNumber.value = v; setAlpha(v); }
 });
 el.alphaNumber.addEventListener('input', () => {
   const v = Number(el.alphaNumber.value);
   el.alphaNumber.classList.toggle('invalid', !Number.isFinite(v) || el.alphaNumber.value.trim() === '');
-  if (Number.isFinite(v) && el.alphaNumber.value.trim() !== '') { state.alpha = v; changed(); }
+  if (Number.isFinite(v) && el.alphaNumber.value.trim() !== '') setAlpha(v, true);
 });
+el.alphaNumber.addEventListener('change', endHistoryGroup);
 el.kindBox.addEventListener('change', (evt) => {
   if (evt.target.name === 'kind') setKind(state.selected, evt.target.value);
 });
@@ -1190,19 +1372,46 @@ el.plotToggle.addEventListener('change', () => { state.plot = el.plotToggle.chec
 $('zoom-in').addEventListener('click', () => zoomCenter(1.25));
 $('zoom-out').addEventListener('click', () => zoomCenter(0.8));
 $('zoom-fit').addEventListener('click', fitView);
+el.errorHint.addEventListener('click', applyHint);
 el.errorShow.addEventListener('click', () => {
   const p = state.points[mainError?.index ?? -1];
   if (p) { centerOn(p); renderError(); }
 });
 
-async function start() {
-  loadHash();
+/** The panel's controls show the state (after loading it from the hash). */
+function syncControls() {
   el.closed.checked = state.closed;
   el.comb.checked = state.comb;
   el.polygon.checked = state.polygon;
   el.plotToggle.checked = state.plot;
   syncAlphaControl();
   updateHistoryButtons();
+}
+
+// Editing the address (or going back to an earlier one) opens the state it holds, as one undo
+// step. The editor's own updates use history.replaceState, which fires no hashchange.
+window.addEventListener('hashchange', () => {
+  if (!schema.methods.length) return; // start() reads the hash once the methods are known
+  pushHistory();
+  loadHash();
+  if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
+  drag = null;
+  mainFit = null;
+  mainStale = false;
+  mainError = null;
+  ensembleFits.clear();
+  syncControls();
+  el.method.value = state.method;
+  buildOptionsForm();
+  buildEnsemble();
+  applyView();
+  render();
+  changed();
+});
+
+async function start() {
+  loadHash();
+  syncControls();
   applyView();
   try {
     const res = await fetch('/api/methods');

@@ -14,7 +14,8 @@ function node(tag, attrs = {}, text = null) {
 const short = (v) => Number(v.toPrecision(3)).toString();
 
 /**
- * curves: [{name, color, main, samples}] with samples from sampleCurve(). Replaces the
+ * curves: [{name, color, main, stale, samples}] with samples from sampleCurve() (stale: the last
+ * good fit of data that now fail, drawn dimmed). Replaces the
  * content of `svgEl`. Samples whose curvature is undefined (zero speed) break the line.
  */
 export function renderCurvaturePlot(svgEl, curves) {
@@ -65,6 +66,7 @@ export function renderCurvaturePlot(svgEl, curves) {
       d += `${pen ? 'L' : 'M'}${x(p.s).toFixed(2)} ${y(p.kappa).toFixed(2)}`;
       pen = true;
     }
-    svgEl.append(node('path', { d, stroke: c.color, class: c.main ? 'main' : '', 'clip-path': `url(#${clipId})`, 'data-testid': `kappa-${c.name}` }));
+    const cls = [c.main ? 'main' : '', c.stale ? 'stale' : ''].filter(Boolean).join(' ');
+    svgEl.append(node('path', { d, stroke: c.color, class: cls, 'clip-path': `url(#${clipId})`, 'data-testid': `kappa-${c.name}` }));
   }
 }
