@@ -3,9 +3,13 @@
 editor's files in <prefix>/share/fairspline/web (FAIRSPLINE_WEB_INSTALL_DIR) and the command in
 <prefix>/bin, and the installed `fairspline serve` finds those files by itself: `serve --help`
 names them as the default --root, and a server started on a free loopback port answers GET /
-with the installed index.html. Every step is bounded in time.
+with the installed index.html. With the Python module built, the same install puts the
+package in <prefix>/PYTHON_INSTALL_DIR/fairspline (FAIRSPLINE_PYTHON_INSTALL_DIR), and
+/usr/bin/python3 with that directory on its path imports it from there and fits. Every step is
+bounded in time.
 
 usage: consumer_install_web.py CMAKE BUILD_DIR WORK_DIR CONFIG WEB_SOURCE_DIR WEB_INSTALL_DIR
+                               [PYTHON_INSTALL_DIR]
 """
 import filecmp
 import os
@@ -21,8 +25,32 @@ def fail(message):
     sys.exit(1)
 
 
+CHECK = """
+import os, sys, fairspline
+assert os.path.realpath(fairspline.__file__).startswith(sys.argv[1]), fairspline.__file__
+curve = fairspline.fit([(1, 90), (3, 105), (6, 120), (10, 100)])
+print(fairspline.__version__, len(curve.segments))
+"""
+
+
+def check_python_package(prefix, python_install_dir):
+    site = os.path.realpath(os.path.join(prefix, python_install_dir))
+    package = os.path.join(site, "fairspline")
+    if not os.path.isfile(os.path.join(package, "__init__.py")):
+        fail(f"cmake --install put no Python package in {package}")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
+    env["PYTHONPATH"] = site
+    step = subprocess.run(["/usr/bin/python3", "-c", CHECK, package], capture_output=True,
+                          text=True, timeout=60, env=env, cwd=prefix)
+    if step.returncode != 0 or step.stdout.split()[1:] != ["3"]:
+        fail(f"the installed package {package} does not import and fit:\n{step.stdout}\n"
+             f"{step.stderr}")
+    print(f"consumer.install_web: {package} imports, version {step.stdout.split()[0]}")
+
+
 def main():
     cmake, build_dir, work_dir, config, web_source, web_install_dir = sys.argv[1:7]
+    python_install_dir = sys.argv[7] if len(sys.argv) > 7 else ""
     prefix = os.path.join(work_dir, "prefix")
     shutil.rmtree(prefix, ignore_errors=True)
     install = [cmake, "--install", build_dir, "--prefix", prefix]
@@ -41,6 +69,9 @@ def main():
     _, mismatch, errors = filecmp.cmpfiles(web_source, web_root, sources, shallow=False)
     if mismatch or errors:
         fail(f"installed web files differ from the sources: {mismatch + errors}")
+
+    if python_install_dir:
+        check_python_package(prefix, python_install_dir)
 
     exe = os.path.join(prefix, "bin", "fairspline")
     if not os.access(exe, os.X_OK):
