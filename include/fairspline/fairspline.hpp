@@ -7,6 +7,7 @@
 #include "fairspline/energy.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
+#include "fairspline/geometry.hpp"
 #include "fairspline/io/csv.hpp"
 #include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
