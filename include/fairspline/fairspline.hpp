@@ -11,6 +11,7 @@
 #include "fairspline/io/csv.hpp"
 #include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
+#include "fairspline/io/paths.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/methods/elastic.hpp"
 #include "fairspline/methods/jaklic_zagar.hpp"
