@@ -41,12 +41,11 @@ std::string svg_path_data(const Spline& s) {
   return out;
 }
 
-std::string write_geojson(const FitResult& result, double tolerance) {
+std::string write_geojson(const Spline& s, double tolerance, const nlohmann::json& properties) {
   if (!(tolerance >= 0.0) || !std::isfinite(tolerance)) {
     throw Error(ErrorCode::kInvalidArgument,
                 "the GeoJSON tolerance must be a non-negative number (0 for the default)");
   }
-  const Spline& s = result.spline;
   if (tolerance == 0.0) {
     const BBox box = bounds(s);
     tolerance = kDefaultGeoJsonRelativeTolerance * std::hypot(box.max.x - box.min.x,
@@ -57,18 +56,23 @@ std::string write_geojson(const FitResult& result, double tolerance) {
   const Polyline line = flatten(s, tolerance);
   nlohmann::json coordinates = nlohmann::json::array();
   for (const Point& p : line.points) coordinates.push_back({p.x, p.y});
-  nlohmann::json properties = {{"method", result.method},
-                               {"closed", result.closed},
-                               {"tolerance", tolerance},
-                               {"length", length(s)}};
-  if (result.report && result.report->bending_energy) {
-    properties["bending_energy"] = *result.report->bending_energy;
-  }
+  nlohmann::json props = properties;
+  props["closed"] = s.closed;
+  props["tolerance"] = tolerance;
+  props["length"] = length(s);
   const nlohmann::json feature = {
       {"type", "Feature"},
       {"geometry", {{"type", "LineString"}, {"coordinates", coordinates}}},
-      {"properties", properties}};
+      {"properties", props}};
   return feature.dump() + "\n";
+}
+
+std::string write_geojson(const FitResult& result, double tolerance) {
+  nlohmann::json properties = {{"method", result.method}};
+  if (result.report && result.report->bending_energy) {
+    properties["bending_energy"] = *result.report->bending_energy;
+  }
+  return write_geojson(result.spline, tolerance, properties);
 }
 
 }  // namespace fairspline::io

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "fairspline/fit.hpp"
 #include "fairspline/spline.hpp"
 
@@ -23,5 +25,8 @@ inline constexpr double kDefaultGeoJsonRelativeTolerance = 1e-4;
 /// length (of the curve) and, when reported, bending_energy. Coordinates are written as given:
 /// for GIS data that is longitude, latitude, so the tolerance is in degrees.
 std::string write_geojson(const FitResult& result, double tolerance = 0.0);
+/// The same for a bare curve: properties closed, tolerance and length, plus `properties`.
+std::string write_geojson(const Spline& s, double tolerance = 0.0,
+                          const nlohmann::json& properties = nlohmann::json::object());
 
 }  // namespace fairspline::io
