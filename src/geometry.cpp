@@ -23,9 +23,9 @@ void check_not_empty(const Spline& s) {
 
 void check_accuracy(double accuracy) {
   if (!(accuracy > 0.0 && accuracy < 1.0)) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "the arc-length accuracy must be a number in (0, 1), got " +
-                    format_number(accuracy));
+    throw Error(
+        ErrorCode::kInvalidArgument,
+        "the arc-length accuracy must be a number in (0, 1), got " + format_number(accuracy));
   }
 }
 
@@ -100,8 +100,9 @@ double box_distance(Point q, const BBox& box) {
 
 Point checked(Point p) {
   if (!is_finite(p)) {
-    throw Error(ErrorCode::kNonFinite, "the transformed curve has a control point beyond the "
-                                       "range of floating-point numbers");
+    throw Error(ErrorCode::kNonFinite,
+                "the transformed curve has a control point beyond the "
+                "range of floating-point numbers");
   }
   return p;
 }
@@ -168,8 +169,7 @@ std::vector<double> parameters_at_lengths(const Spline& s, const std::vector<dou
   return out;
 }
 
-std::vector<double> equal_length_parameters(const Spline& s, std::size_t count,
-                                            double accuracy) {
+std::vector<double> equal_length_parameters(const Spline& s, std::size_t count, double accuracy) {
   if (count < 2) {
     throw Error(ErrorCode::kInvalidArgument,
                 "the number of samples must be at least 2, got " + std::to_string(count));
@@ -189,9 +189,9 @@ std::vector<double> equal_length_parameters(const Spline& s, std::size_t count,
 Polyline flatten(const Spline& s, double tolerance, std::size_t max_points) {
   check_not_empty(s);
   if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "the flattening tolerance must be a positive number, got " +
-                    format_number(tolerance));
+    throw Error(
+        ErrorCode::kInvalidArgument,
+        "the flattening tolerance must be a positive number, got " + format_number(tolerance));
   }
   Polyline out;
   out.points.push_back(s.segments.front().bezier.p[0]);
@@ -246,8 +246,8 @@ BBox bounds(const Spline& s) {
 Projection project(const Spline& s, Point q) {
   check_not_empty(s);
   if (!is_finite(q)) {
-    throw Error(ErrorCode::kNonFinite, "the query point " + detail::format_point(q) +
-                                           " is not finite");
+    throw Error(ErrorCode::kNonFinite,
+                "the query point " + detail::format_point(q) + " is not finite");
   }
   Projection best;
   best.distance = std::numeric_limits<double>::infinity();
@@ -260,8 +260,7 @@ Projection project(const Spline& s, Point q) {
     }
   };
   // Binomial weights of the Bernstein product (degree 3 times degree 2).
-  static constexpr double kC3[4] = {1, 3, 3, 1}, kC2[3] = {1, 2, 1},
-                          kC5[6] = {1, 5, 10, 10, 5, 1};
+  static constexpr double kC3[4] = {1, 3, 3, 1}, kC2[3] = {1, 2, 1}, kC5[6] = {1, 5, 10, 10, 5, 1};
   for (std::size_t k = 0; k < s.segments.size(); ++k) {
     const CubicBezier& b = s.segments[k].bezier;
     if (box_distance(q, b.control_bbox()) >= best.distance) continue;
@@ -274,8 +273,8 @@ Projection project(const Spline& s, Point q) {
     for (int i = 0; i <= 3; ++i) {
       for (int j = 0; j <= 2; ++j) {
         f.b[static_cast<std::size_t>(i + j)] +=
-            kC3[i] * kC2[j] / kC5[i + j] * dot(b.p[static_cast<std::size_t>(i)] - q,
-                                                h.p[static_cast<std::size_t>(j)]);
+            kC3[i] * kC2[j] / kC5[i + j] *
+            dot(b.p[static_cast<std::size_t>(i)] - q, h.p[static_cast<std::size_t>(j)]);
       }
     }
     const detail::BernsteinRoots roots = detail::bernstein_roots(f, 1e-14);
@@ -303,8 +302,7 @@ Spline subcurve(const Spline& s, double t0, double t1) {
   check_parameter(s, t1);
   if (!(t0 < t1)) {
     throw Error(ErrorCode::kInvalidArgument, "a sub-curve needs t0 < t1, got t0 = " +
-                                                 format_number(t0) + ", t1 = " +
-                                                 format_number(t1));
+                                                 format_number(t0) + ", t1 = " + format_number(t1));
   }
   Spline out;
   for (const Segment& g : s.segments) {
@@ -321,9 +319,9 @@ std::pair<Spline, Spline> split(const Spline& s, double t) {
   check_not_empty(s);
   check_parameter(s, t);
   if (!(t > s.t_begin() && t < s.t_end())) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "a split needs a parameter strictly inside the curve's range, got t = " +
-                    format_number(t));
+    throw Error(
+        ErrorCode::kInvalidArgument,
+        "a split needs a parameter strictly inside the curve's range, got t = " + format_number(t));
   }
   return {subcurve(s, s.t_begin(), t), subcurve(s, t, s.t_end())};
 }
@@ -372,10 +370,10 @@ Frame frame_at(const Spline& s, double t) {
     if (norm(d) == 0.0) d = b.d3();
   }
   if (norm(d) == 0.0) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "the curve has no direction at t = " + format_number(t) +
-                    " (its piece is a single point)",
-                g.span);
+    throw Error(
+        ErrorCode::kInvalidArgument,
+        "the curve has no direction at t = " + format_number(t) + " (its piece is a single point)",
+        g.span);
   }
   const Vec2 tangent = normalized(d);
   return {b.eval(u), tangent, Vec2{-tangent.y, tangent.x}};

@@ -48,8 +48,8 @@ std::string write_geojson(const Spline& s, double tolerance, const nlohmann::jso
   }
   if (tolerance == 0.0) {
     const BBox box = bounds(s);
-    tolerance = kDefaultGeoJsonRelativeTolerance * std::hypot(box.max.x - box.min.x,
-                                                             box.max.y - box.min.y);
+    tolerance =
+        kDefaultGeoJsonRelativeTolerance * std::hypot(box.max.x - box.min.x, box.max.y - box.min.y);
     // A curve with no extent (cannot come from a fit, which needs distinct points).
     if (!(tolerance > 0.0)) tolerance = 1.0;
   }

@@ -1198,8 +1198,8 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   MinEnergyOptions opt = options;
   if (elastic) {
     opt.method.basis = MinEnergyBasis::kRestrictedElastic;
-    opt.method.omega = std::min(options.method.omega,
-                                BasicCurveMethod::default_omega(MinEnergyBasis::kRestrictedElastic));
+    opt.method.omega = std::min(
+        options.method.omega, BasicCurveMethod::default_omega(MinEnergyBasis::kRestrictedElastic));
   }
   // The interpolation through the centres: the input's checks, the start, the node model.
   SpanDirections dirs;
@@ -1321,7 +1321,8 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   } else {
     res = solve(pb, st, opt, true);
     if (elastic && pb.m.basis != MinEnergyBasis::kElastic && (res.converged || res.stalled) &&
-        std::any_of(pb.slot.begin(), pb.slot.end(), [](const Slot& sl) { return sl.active >= 0; })) {
+        std::any_of(pb.slot.begin(), pb.slot.end(),
+                    [](const Slot& sl) { return sl.active >= 0; })) {
       const int before = res.iterations;
       pb.m = options.method;
       pb.omega = options.method.omega;

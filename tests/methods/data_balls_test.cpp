@@ -208,12 +208,10 @@ struct Case {
 };
 
 std::vector<Case> every_basis() {
-  return {{"quasi-elastic", nlohmann::json::object()},
-          {"cond-g2", {{"lambda", 1.6}}},
-          {"min-energy", {{"basis", "jaklic-zagar"}}},
-          {"min-energy", {{"basis", "yong-cheng"}}},
-          {"restricted-elastic", nlohmann::json::object()},
-          {"elastic", nlohmann::json::object()}};
+  return {
+      {"quasi-elastic", nlohmann::json::object()},      {"cond-g2", {{"lambda", 1.6}}},
+      {"min-energy", {{"basis", "jaklic-zagar"}}},      {"min-energy", {{"basis", "yong-cheng"}}},
+      {"restricted-elastic", nlohmann::json::object()}, {"elastic", nlohmann::json::object()}};
 }
 
 TEST(DataBalls, KktConditionsHoldForEveryBasis) {
