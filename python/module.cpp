@@ -31,8 +31,10 @@
 #include "fairspline/batch.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
+#include "fairspline/geometry.hpp"
 #include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
+#include "fairspline/io/paths.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
 #include "fairspline_docstrings.hpp"
@@ -46,6 +48,7 @@ using fairspline::ErrorCode;
 using fairspline::FitInput;
 using fairspline::FitResult;
 using fairspline::Point;
+using fairspline::Spline;
 using fairspline::Vec2;
 using nlohmann::json;
 namespace doc = fairspline_py::doc;
@@ -442,12 +445,12 @@ enum class Quantity { kPoint, kDerivative, kCurvature };
 
 /// Evaluates a quantity at every t of an array of shape S: points/derivatives give S + (2,),
 /// curvature S (a float for a scalar t). Every t must lie in the curve's parameter range.
-py::object evaluate(const FitResult& r, py::handle t_obj, Quantity what, int order = 1) {
+py::object evaluate(const Spline& spline, py::handle t_obj, Quantity what, int order = 1) {
   if (what == Quantity::kDerivative && (order < 1 || order > 3)) {
     invalid("derivative order must be 1, 2 or 3, got " + std::to_string(order));
   }
   const DoubleArray t = as_double_array(t_obj, "t", "a number or an array");
-  const double t0 = r.spline.t_begin(), t1 = r.spline.t_end();
+  const double t0 = spline.t_begin(), t1 = spline.t_end();
   const auto n = static_cast<std::size_t>(t.size());
   std::vector<py::ssize_t> shape(t.shape(), t.shape() + t.ndim());
   if (what != Quantity::kCurvature) shape.push_back(2);
@@ -467,19 +470,19 @@ py::object evaluate(const FitResult& r, py::handle t_obj, Quantity what, int ord
       }
       switch (what) {
         case Quantity::kPoint: {
-          const Point p = r.spline.eval(ti);
+          const Point p = spline.eval(ti);
           o[2 * i] = p.x;
           o[2 * i + 1] = p.y;
           break;
         }
         case Quantity::kDerivative: {
-          const Vec2 d = r.spline.derivative(ti, order);
+          const Vec2 d = spline.derivative(ti, order);
           o[2 * i] = d.x;
           o[2 * i + 1] = d.y;
           break;
         }
         case Quantity::kCurvature:
-          o[i] = r.spline.curvature(ti);
+          o[i] = spline.curvature(ti);
           break;
       }
     }
@@ -775,12 +778,456 @@ Python: keyword arguments set the options (with or without the "svg." prefix):
   return out + doc::set_svg_option;
 }
 
+std::string path_doc() {
+  return R"(A piecewise cubic Bézier curve on a global parameter t, without a fit: what the geometry
+operations of Curve and Path return (split, subcurve, reversed, transformed), and Curve.path.
+It has the same evaluation, geometry and export methods as Curve. Paths compare by value and
+pickle.)";
+}
+
+std::string geojson_doc() {
+  return std::string(doc::write_geojson) + R"(
+
+Parameters
+----------
+tolerance : float
+    Flattening tolerance in the curve's units; 0 (default): 1e-4 of the bounds' diagonal.
+
+Returns
+-------
+dict
+    The Feature, ready for json.dump or shapely.geometry.shape(feature["geometry"]).)";
+}
+
 /// Docstrings must outlive the module definitions that point at them: kept until exit (a
 /// deque never moves its elements).
 const char* keep(std::string text) {
   static auto* store = new std::deque<std::string>();
   store->push_back(std::move(text));
   return store->back().c_str();
+}
+
+// ---------------------------------------------------------------- geometry (Curve and Path)
+
+/// A Python array of `values` with the given shape (values.size() elements).
+py::array_t<double> shaped(const std::vector<double>& values, std::vector<py::ssize_t> shape) {
+  py::array_t<double> out(shape);
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+/// A float for a 0-d input, else the array.
+py::object scalar_or_array(const std::vector<double>& values, const DoubleArray& like) {
+  if (like.ndim() == 0) return py::float_(values.front());
+  return shaped(values, std::vector<py::ssize_t>(like.shape(), like.shape() + like.ndim()));
+}
+
+std::vector<double> flat(const DoubleArray& a) {
+  return std::vector<double>(a.data(), a.data() + a.size());
+}
+
+/// Parameters checked against the range with the element's position in the message.
+std::vector<double> checked_parameters(const Spline& s, const DoubleArray& t) {
+  std::vector<double> out = flat(t);
+  const double t0 = s.t_begin(), t1 = s.t_end();
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!(out[i] >= t0 && out[i] <= t1)) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "t = " + number_text(out[i]) + " (element " + std::to_string(i) +
+                      ") is outside the curve's parameter range [" + number_text(t0) + ", " +
+                      number_text(t1) + "]",
+                  i);
+    }
+  }
+  return out;
+}
+
+/// An affine map from SVG's six numbers (a, b, c, d, e, f), a 2×3 matrix [[a, c, e], [b, d, f]]
+/// or a 3×3 homogeneous matrix whose last row is (0, 0, 1).
+fairspline::Affine affine_of(py::handle m) {
+  const DoubleArray a = as_double_array(m, "matrix", "6 numbers or a 2x3 / 3x3 matrix");
+  const double* v = a.data();
+  if (a.ndim() == 1 && a.size() == 6) return {v[0], v[1], v[2], v[3], v[4], v[5]};
+  if (a.ndim() == 2 && (a.shape(0) == 2 || a.shape(0) == 3) && a.shape(1) == 3) {
+    if (a.shape(0) == 3 && !(v[6] == 0 && v[7] == 0 && v[8] == 1)) {
+      invalid("a 3x3 matrix must be affine: its last row must be (0, 0, 1)");
+    }
+    return {v[0], v[3], v[1], v[4], v[2], v[5]};
+  }
+  invalid("matrix must be 6 numbers (a, b, c, d, e, f) or a 2x3 / 3x3 matrix, got shape " +
+          shape_text(a));
+}
+
+py::tuple points_and_parameters(const fairspline::Polyline& line) {
+  return py::make_tuple(
+      points_array(line.points),
+      shaped(line.parameters, {static_cast<py::ssize_t>(line.parameters.size())}));
+}
+
+py::array_t<double> segments_array(const Spline& spline) {
+  const auto& segs = spline.segments;
+  py::array_t<double> out({static_cast<py::ssize_t>(segs.size()), py::ssize_t{4}, py::ssize_t{2}});
+  double* p = out.mutable_data();
+  for (const auto& s : segs) {
+    for (const Point& q : s.bezier.p) {
+      *p++ = q.x;
+      *p++ = q.y;
+    }
+  }
+  return out;
+}
+
+py::array_t<double> segment_ranges_array(const Spline& spline) {
+  const auto& segs = spline.segments;
+  py::array_t<double> out({static_cast<py::ssize_t>(segs.size()), py::ssize_t{2}});
+  double* p = out.mutable_data();
+  for (const auto& s : segs) {
+    *p++ = s.t0;
+    *p++ = s.t1;
+  }
+  return out;
+}
+
+py::array_t<std::int64_t> spans_array(const Spline& spline) {
+  const auto& segs = spline.segments;
+  py::array_t<std::int64_t> out(static_cast<py::ssize_t>(segs.size()));
+  std::int64_t* p = out.mutable_data();
+  for (const auto& s : segs) *p++ = static_cast<std::int64_t>(s.span);
+  return out;
+}
+
+/// A Path from its pickled state: (segments (m, 4, 2), segment_ranges (m, 2), spans, closed).
+Spline spline_from_arrays(py::handle segments, py::handle ranges, py::handle spans, bool closed) {
+  const DoubleArray seg = as_double_array(segments, "segments", "an (m, 4, 2) array");
+  const DoubleArray rng = as_double_array(ranges, "segment_ranges", "an (m, 2) array");
+  const auto m = seg.ndim() == 3 ? seg.shape(0) : -1;
+  if (m < 1 || seg.shape(1) != 4 || seg.shape(2) != 2 || rng.ndim() != 2 || rng.shape(0) != m ||
+      rng.shape(1) != 2) {
+    invalid("a Path needs segments of shape (m, 4, 2) and segment_ranges of shape (m, 2), m >= 1");
+  }
+  const std::vector<std::int64_t> sp = spans.cast<std::vector<std::int64_t>>();
+  Spline s;
+  s.closed = closed;
+  const double* p = seg.data();
+  const double* r = rng.data();
+  for (py::ssize_t k = 0; k < m; ++k, p += 8, r += 2) {
+    fairspline::Segment g;
+    for (int i = 0; i < 4; ++i) g.bezier.p[static_cast<std::size_t>(i)] = {p[2 * i], p[2 * i + 1]};
+    g.t0 = r[0];
+    g.t1 = r[1];
+    g.span = k < static_cast<py::ssize_t>(sp.size())
+                 ? static_cast<std::size_t>(sp[static_cast<std::size_t>(k)])
+                 : 0;
+    s.segments.push_back(g);
+  }
+  return s;
+}
+
+/// fontTools' pen protocol: moveTo, one curveTo per piece, closePath or endPath.
+void draw_with_pen(const Spline& s, py::handle pen) {
+  auto xy = [](Point p) { return py::make_tuple(p.x, p.y); };
+  pen.attr("moveTo")(xy(s.segments.front().bezier.p[0]));
+  for (const auto& g : s.segments) {
+    pen.attr("curveTo")(xy(g.bezier.p[1]), xy(g.bezier.p[2]), xy(g.bezier.p[3]));
+  }
+  pen.attr(s.closed ? "closePath" : "endPath")();
+}
+
+/// The geometry methods that Curve (a fit) and Path (a bare curve) share; `spline_of` gives the
+/// curve of a T.
+template <typename T, typename Get>
+void add_geometry(py::class_<T>& cls, Get spline_of) {
+  const double acc = fairspline::kDefaultLengthAccuracy;
+  cls.def(
+         "length",
+         [spline_of](const T& self, double accuracy) {
+           py::gil_scoped_release release;
+           return fairspline::length(spline_of(self), accuracy);
+         },
+         py::arg("accuracy") = acc,
+         keep(std::string(doc::geometry_length) + R"(
+
+Parameters
+----------
+accuracy : float
+    Relative accuracy in (0, 1). )" +
+              doc::geometry_length_accuracy + R"(
+
+Returns
+-------
+float
+
+Examples
+--------
+>>> import fairspline
+>>> line = fairspline.fit([(0, 0), (1, 0), (3, 0)])
+>>> round(line.length(), 12)
+3.0)"))
+      .def(
+          "segment_lengths",
+          [spline_of](const T& self, double accuracy) {
+            std::vector<double> v;
+            {
+              py::gil_scoped_release release;
+              v = fairspline::segment_lengths(spline_of(self), accuracy);
+            }
+            return shaped(v, {static_cast<py::ssize_t>(v.size())});
+          },
+          py::arg("accuracy") = acc,
+          keep(std::string(doc::geometry_segment_lengths) +
+               "\n\nReturns\n-------\nnumpy.ndarray\n    Shape (m,), one length per piece."))
+      .def(
+          "length_at",
+          [spline_of](const T& self, py::handle t_obj, double accuracy) {
+            const DoubleArray t = as_double_array(t_obj, "t", "a number or an array");
+            const Spline& s = spline_of(self);
+            const std::vector<double> ts = checked_parameters(s, t);
+            std::vector<double> v;
+            {
+              py::gil_scoped_release release;
+              v = fairspline::lengths_at(s, ts, accuracy);
+            }
+            return scalar_or_array(v, t);
+          },
+          py::arg("t"), py::arg("accuracy") = acc, keep(std::string(doc::geometry_lengths_at) + R"(
+
+Parameters
+----------
+t : float or array_like
+    Parameters in t_range, any shape S.
+accuracy : float
+    Relative accuracy in (0, 1).
+
+Returns
+-------
+float or numpy.ndarray
+    Arc lengths from the start, shape S.)"))
+      .def(
+          "t_at_length",
+          [spline_of](const T& self, py::handle s_obj, double accuracy) {
+            const DoubleArray l = as_double_array(s_obj, "s", "a number or an array");
+            std::vector<double> v;
+            {
+              const std::vector<double> ls = flat(l);
+              py::gil_scoped_release release;
+              v = fairspline::parameters_at_lengths(spline_of(self), ls, accuracy);
+            }
+            return scalar_or_array(v, l);
+          },
+          py::arg("s"), py::arg("accuracy") = acc,
+          keep(std::string(doc::geometry_parameters_at_lengths) + R"(
+
+Parameters
+----------
+s : float or array_like
+    Arc lengths in [0, length()], any shape S.
+accuracy : float
+    Relative accuracy in (0, 1).
+
+Returns
+-------
+float or numpy.ndarray
+    The parameters t, shape S; curve(t) is the point at arc length s.
+
+Examples
+--------
+>>> import fairspline
+>>> line = fairspline.fit([(0, 0), (1, 0), (3, 0)])
+>>> float(round(line(line.t_at_length(2.5))[0], 9))
+2.5)"))
+      .def(
+          "sample_by_length",
+          [spline_of](const T& self, std::size_t count, double accuracy) {
+            const Spline& s = spline_of(self);
+            std::vector<double> t;
+            std::vector<Point> p;
+            {
+              py::gil_scoped_release release;
+              t = fairspline::equal_length_parameters(s, count, accuracy);
+              p.reserve(t.size());
+              for (double ti : t) p.push_back(s.eval(ti));
+            }
+            return py::make_tuple(points_array(p), shaped(t, {static_cast<py::ssize_t>(t.size())}));
+          },
+          py::arg("count"), py::arg("accuracy") = acc,
+          keep(std::string(doc::geometry_equal_length_parameters) + R"(
+
+Parameters
+----------
+count : int
+    Number of samples, at least 2 (both ends included).
+accuracy : float
+    Relative accuracy in (0, 1).
+
+Returns
+-------
+points : numpy.ndarray
+    Shape (count, 2), equally spaced along the curve.
+t : numpy.ndarray
+    Shape (count,), their parameters.)"))
+      .def(
+          "flatten",
+          [spline_of](const T& self, double tolerance) {
+            fairspline::Polyline line;
+            {
+              py::gil_scoped_release release;
+              line = fairspline::flatten(spline_of(self), tolerance);
+            }
+            return points_and_parameters(line);
+          },
+          py::arg("tolerance"), keep(std::string(doc::geometry_flatten) + R"(
+
+Parameters
+----------
+tolerance : float
+    Largest distance between the curve and the polyline, in the curve's units (> 0).
+
+Returns
+-------
+points : numpy.ndarray
+    Shape (k, 2), vertices on the curve (a closed curve's last vertex is its first).
+t : numpy.ndarray
+    Shape (k,), their parameters.)"))
+      .def(
+          "bounds",
+          [spline_of](const T& self) {
+            const fairspline::BBox b = fairspline::bounds(spline_of(self));
+            return py::make_tuple(b.min.x, b.min.y, b.max.x, b.max.y);
+          },
+          keep(std::string(doc::geometry_bounds) +
+               "\n\nReturns\n-------\ntuple of float\n    (xmin, ymin, xmax, ymax), as shapely's "
+               "bounds."))
+      .def(
+          "project",
+          [spline_of](const T& self, py::handle q_obj) -> py::object {
+            const DoubleArray q = as_double_array(q_obj, "q", "a point (x, y) or a (k, 2) array");
+            const bool one = q.ndim() == 1 && q.shape(0) == 2;
+            if (!one && !(q.ndim() == 2 && q.shape(1) == 2)) {
+              invalid("q must be a point (x, y) or a (k, 2) array, got shape " + shape_text(q));
+            }
+            const auto k = static_cast<std::size_t>(q.size() / 2);
+            std::vector<double> t(k), d(k);
+            std::vector<Point> p(k);
+            {
+              py::gil_scoped_release release;
+              for (std::size_t i = 0; i < k; ++i) {
+                const fairspline::Projection r =
+                    fairspline::project(spline_of(self), {q.data()[2 * i], q.data()[2 * i + 1]});
+                t[i] = r.t;
+                p[i] = r.point;
+                d[i] = r.distance;
+              }
+            }
+            if (one) {
+              return py::make_tuple(t[0], points_array(p).attr("reshape")(2), d[0]);
+            }
+            const auto ks = static_cast<py::ssize_t>(k);
+            return py::make_tuple(shaped(t, {ks}), points_array(p), shaped(d, {ks}));
+          },
+          py::arg("q"), keep(std::string(doc::geometry_project) + R"(
+
+Parameters
+----------
+q : array_like
+    A point (x, y), or k points as a (k, 2) array.
+
+Returns
+-------
+t : float or numpy.ndarray
+    The parameter of the nearest point, shape () or (k,).
+point : numpy.ndarray
+    The nearest point, shape (2,) or (k, 2).
+distance : float or numpy.ndarray
+    Its distance to q.)"))
+      .def(
+          "frames",
+          [spline_of](const T& self, py::handle t_obj) {
+            const DoubleArray t = as_double_array(t_obj, "t", "a number or an array");
+            const Spline& s = spline_of(self);
+            const std::vector<double> ts = checked_parameters(s, t);
+            std::vector<Point> p(ts.size()), tan(ts.size()), nor(ts.size());
+            {
+              py::gil_scoped_release release;
+              for (std::size_t i = 0; i < ts.size(); ++i) {
+                const fairspline::Frame f = fairspline::frame_at(s, ts[i]);
+                p[i] = f.point;
+                tan[i] = f.tangent;
+                nor[i] = f.normal;
+              }
+            }
+            std::vector<py::ssize_t> shape(t.shape(), t.shape() + t.ndim());
+            shape.push_back(2);
+            auto as_shape = [&](const std::vector<Point>& v) {
+              return points_array(v).attr("reshape")(py::tuple(py::cast(shape)));
+            };
+            return py::make_tuple(as_shape(p), as_shape(tan), as_shape(nor));
+          },
+          py::arg("t"), keep(std::string(doc::geometry_frame) + R"(
+
+Parameters
+----------
+t : float or array_like
+    Parameters in t_range, any shape S.
+
+Returns
+-------
+points, tangents, normals : numpy.ndarray
+    Each of shape S + (2,); tangents and normals are unit vectors, normal = tangent turned
+    by +90 degrees (to the left).)"))
+      .def(
+          "split",
+          [spline_of](const T& self, double t) { return fairspline::split(spline_of(self), t); },
+          py::arg("t"),
+          keep(std::string(doc::geometry_split) +
+               "\n\nReturns\n-------\ntuple of Path\n    (before, after)."))
+      .def(
+          "subcurve",
+          [spline_of](const T& self, double t0, double t1) {
+            return fairspline::subcurve(spline_of(self), t0, t1);
+          },
+          py::arg("t0"), py::arg("t1"),
+          keep(std::string(doc::geometry_subcurve) + "\n\nReturns\n-------\nPath"))
+      .def(
+          "reversed", [spline_of](const T& self) { return fairspline::reversed(spline_of(self)); },
+          keep(std::string(doc::geometry_reversed) + "\n\nReturns\n-------\nPath"))
+      .def(
+          "transformed",
+          [spline_of](const T& self, py::handle matrix) {
+            return fairspline::transformed(spline_of(self), affine_of(matrix));
+          },
+          py::arg("matrix"),
+          keep(std::string(doc::geometry_affine) + "\n" + doc::geometry_transformed + R"(
+
+Parameters
+----------
+matrix : array_like
+    SVG's six numbers (a, b, c, d, e, f), a 2x3 matrix [[a, c, e], [b, d, f]] or a 3x3
+    homogeneous matrix with last row (0, 0, 1).
+
+Returns
+-------
+Path)"))
+      .def(
+          "svg_path",
+          [spline_of](const T& self) { return fairspline::io::svg_path_data(spline_of(self)); },
+          keep(std::string(doc::svg_path_data) + R"(
+
+Returns
+-------
+str
+    For the d attribute of an SVG <path>; the y axis is not flipped.)"))
+      .def(
+          "draw",
+          [spline_of](const T& self, py::handle pen) { draw_with_pen(spline_of(self), pen); },
+          py::arg("pen"),
+          R"(Draws the curve with a fontTools pen: moveTo, one curveTo per piece, then closePath
+(closed curve) or endPath. Works with any object that has these methods, e.g.
+fontTools.pens.recordingPen.RecordingPen, BoundsPen, or a glyph's pen.
+
+Parameters
+----------
+pen : object
+    A fontTools-style segment pen.)");
 }
 
 }  // namespace
@@ -808,7 +1255,73 @@ PYBIND11_MODULE(_core, m) {
     }
   });
 
-  py::class_<FitResult>(m, "Curve", keep(curve_doc()))
+  py::class_<Spline> path(m, "Path", keep(path_doc()));
+  path.def(py::init(&spline_from_arrays), py::arg("segments"), py::arg("segment_ranges"),
+           py::arg("spans"), py::arg("closed") = false,
+           "A Path from its pieces: segments (m, 4, 2), segment_ranges (m, 2), spans (m,).")
+      .def_property_readonly("segments", &segments_array,
+                             "Bézier control points of the pieces: (m, 4, 2) array.")
+      .def_property_readonly("segment_ranges", &segment_ranges_array,
+                             "(m, 2) array: the global parameter interval [t0, t1] of each piece")
+      .def_property_readonly("spans", &spans_array,
+                             "(m,) int array: the input point each piece starts from")
+      .def_property_readonly(
+          "closed", [](const Spline& s) { return s.closed; }, "True for a closed curve")
+      .def_property_readonly(
+          "t_range", [](const Spline& s) { return py::make_tuple(s.t_begin(), s.t_end()); },
+          "(t0, t1): the parameter range")
+      .def(
+          "evaluate",
+          [](const Spline& s, py::handle t) { return evaluate(s, t, Quantity::kPoint); },
+          py::arg("t"), keep(eval_doc(doc::spline_eval, "the result has shape S + (2,)")))
+      .def(
+          "derivative",
+          [](const Spline& s, py::handle t, int order) {
+            return evaluate(s, t, Quantity::kDerivative, order);
+          },
+          py::arg("t"), py::arg("order") = 1,
+          keep(eval_doc(doc::spline_derivative, "the result has shape S + (2,)")))
+      .def(
+          "curvature",
+          [](const Spline& s, py::handle t) { return evaluate(s, t, Quantity::kCurvature); },
+          py::arg("t"),
+          keep(eval_doc(doc::spline_curvature, "the result has shape S (a float for a number t)")))
+      .def(
+          "__call__",
+          [](const Spline& s, py::handle t) { return evaluate(s, t, Quantity::kPoint); },
+          py::arg("t"), "path(t) is path.evaluate(t).")
+      .def(
+          "__eq__",
+          [](const Spline& a, py::object other) -> py::object {
+            if (!py::isinstance<Spline>(other))
+              return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+            const Spline& b = other.cast<const Spline&>();
+            bool same = a.closed == b.closed && a.segments.size() == b.segments.size();
+            for (std::size_t k = 0; same && k < a.segments.size(); ++k) {
+              const auto &x = a.segments[k], &y = b.segments[k];
+              same = x.bezier.p == y.bezier.p && x.t0 == y.t0 && x.t1 == y.t1 && x.span == y.span;
+            }
+            return py::bool_(same);
+          },
+          "Equal by value: the same pieces, parameters and spans, floats bit for bit.")
+      .def("__repr__",
+           [](const Spline& s) {
+             return "<fairspline.Path segments=" + std::to_string(s.segments.size()) +
+                    (s.closed ? " closed" : "") + ">";
+           })
+      .def(py::pickle(
+          [](const Spline& s) {
+            return py::make_tuple(segments_array(s), segment_ranges_array(s), spans_array(s),
+                                  s.closed);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 4) invalid("a pickled Path has 4 fields");
+            return spline_from_arrays(t[0], t[1], t[2], t[3].cast<bool>());
+          }));
+  add_geometry(path, [](const Spline& s) -> const Spline& { return s; });
+
+  py::class_<FitResult> curve(m, "Curve", keep(curve_doc()));
+  curve
       .def_property_readonly(
           "method", [](const FitResult& r) { return r.method; }, "the method's name")
       .def_property_readonly(
@@ -831,45 +1344,18 @@ PYBIND11_MODULE(_core, m) {
           "tangents", [](const FitResult& r) { return points_array(r.tangents); },
           keep(std::string(doc::result_tangents) + ": (n, 2) array"))
       .def_property_readonly(
-          "segments",
-          [](const FitResult& r) {
-            const auto& segs = r.spline.segments;
-            py::array_t<double> out(
-                {static_cast<py::ssize_t>(segs.size()), py::ssize_t{4}, py::ssize_t{2}});
-            double* p = out.mutable_data();
-            for (const auto& s : segs) {
-              for (const Point& q : s.bezier.p) {
-                *p++ = q.x;
-                *p++ = q.y;
-              }
-            }
-            return out;
-          },
+          "segments", [](const FitResult& r) { return segments_array(r.spline); },
           keep("Bézier control points of the pieces: (m, 4, 2) array.\n" +
                std::string(doc::segment)))
       .def_property_readonly(
-          "segment_ranges",
-          [](const FitResult& r) {
-            const auto& segs = r.spline.segments;
-            py::array_t<double> out({static_cast<py::ssize_t>(segs.size()), py::ssize_t{2}});
-            double* p = out.mutable_data();
-            for (const auto& s : segs) {
-              *p++ = s.t0;
-              *p++ = s.t1;
-            }
-            return out;
-          },
+          "segment_ranges", [](const FitResult& r) { return segment_ranges_array(r.spline); },
           "(m, 2) array: the global parameter interval [t0, t1] of each piece")
       .def_property_readonly(
-          "spans",
-          [](const FitResult& r) {
-            const auto& segs = r.spline.segments;
-            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(segs.size()));
-            std::int64_t* p = out.mutable_data();
-            for (const auto& s : segs) *p++ = static_cast<std::int64_t>(s.span);
-            return out;
-          },
+          "spans", [](const FitResult& r) { return spans_array(r.spline); },
           "(m,) int array: the input point each piece starts from")
+      .def_property_readonly(
+          "path", [](const FitResult& r) { return r.spline; },
+          "The curve alone as a Path (its pieces, parameters and closedness, no fit or report).")
       .def_property_readonly(
           "t_range",
           [](const FitResult& r) { return py::make_tuple(r.spline.t_begin(), r.spline.t_end()); },
@@ -887,18 +1373,20 @@ PYBIND11_MODULE(_core, m) {
           "the method-specific report (dict), as in the JSON output")
       .def(
           "evaluate",
-          [](const FitResult& r, py::handle t) { return evaluate(r, t, Quantity::kPoint); },
+          [](const FitResult& r, py::handle t) { return evaluate(r.spline, t, Quantity::kPoint); },
           py::arg("t"), keep(eval_doc(doc::spline_eval, "the result has shape S + (2,)")))
       .def(
           "derivative",
           [](const FitResult& r, py::handle t, int order) {
-            return evaluate(r, t, Quantity::kDerivative, order);
+            return evaluate(r.spline, t, Quantity::kDerivative, order);
           },
           py::arg("t"), py::arg("order") = 1,
           keep(eval_doc(doc::spline_derivative, "the result has shape S + (2,)")))
       .def(
           "curvature",
-          [](const FitResult& r, py::handle t) { return evaluate(r, t, Quantity::kCurvature); },
+          [](const FitResult& r, py::handle t) {
+            return evaluate(r.spline, t, Quantity::kCurvature);
+          },
           py::arg("t"),
           keep(eval_doc(doc::spline_curvature, "the result has shape S (a float for a number t)") +
                "\n" + doc::bezier_curvature))
@@ -935,7 +1423,7 @@ PYBIND11_MODULE(_core, m) {
           keep(to_svg_doc()))
       .def(
           "__call__",
-          [](const FitResult& r, py::handle t) { return evaluate(r, t, Quantity::kPoint); },
+          [](const FitResult& r, py::handle t) { return evaluate(r.spline, t, Quantity::kPoint); },
           py::arg("t"), "curve(t) is curve.evaluate(t).")
       .def(
           "__eq__",
@@ -985,6 +1473,20 @@ PYBIND11_MODULE(_core, m) {
                       [](const py::bytes& state) {
                         return fairspline::io::read_fit_result(state.cast<std::string>());
                       }));
+
+  add_geometry(curve, [](const FitResult& r) -> const Spline& { return r.spline; });
+  curve.def(
+      "to_geojson",
+      [](const FitResult& r, double tolerance) {
+        return to_python(json::parse(fairspline::io::write_geojson(r, tolerance)));
+      },
+      py::arg("tolerance") = 0.0, keep(geojson_doc()));
+  path.def(
+      "to_geojson",
+      [](const Spline& s, double tolerance) {
+        return to_python(json::parse(fairspline::io::write_geojson(s, tolerance)));
+      },
+      py::arg("tolerance") = 0.0, keep(geojson_doc()));
 
   const std::string default_method(fairspline::default_method_name());
   m.def("fit", &py_fit, py::arg("points"), py::arg("method") = default_method,

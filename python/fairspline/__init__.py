@@ -15,7 +15,7 @@ point). The compiled part is fairspline._core; its docstrings come from the C++ 
 import functools as _functools
 
 from . import _core
-from ._core import DEFAULT_METHOD, Curve, Error, __version__
+from ._core import DEFAULT_METHOD, Curve, Error, Path, __version__
 from .plot import plot
 
 
@@ -31,10 +31,42 @@ def _module_level(function):
     return wrapper
 
 
+def _to_matplotlib_path(self):
+    """The curve as a matplotlib.path.Path: MOVETO, then CURVE4 control points per piece, and
+    CLOSEPOLY for a closed curve; for PathPatch, clipping, contains_points and get_extents.
+
+    Returns
+    -------
+    matplotlib.path.Path
+
+    Examples
+    --------
+    >>> import fairspline
+    >>> curve = fairspline.fit([(0, 0), (1, 1), (2, 0)])
+    >>> curve.to_matplotlib_path().codes[:4].tolist()
+    [1, 4, 4, 4]
+    """
+    import numpy as np
+    from matplotlib.path import Path as MplPath
+
+    segments = self.segments
+    m = len(segments)
+    vertices = np.concatenate([segments[:1, 0], segments[:, 1:].reshape(3 * m, 2)])
+    codes = np.full(len(vertices), MplPath.CURVE4, dtype=MplPath.code_type)
+    codes[0] = MplPath.MOVETO
+    if self.closed:
+        vertices = np.concatenate([vertices, vertices[:1]])
+        codes = np.append(codes, MplPath.CLOSEPOLY).astype(MplPath.code_type)
+    return MplPath(vertices, codes)
+
+
+Curve.to_matplotlib_path = _to_matplotlib_path
+Path.to_matplotlib_path = _to_matplotlib_path
+
 fit = _module_level(_core.fit)
 fit_many = _module_level(_core.fit_many)
 methods = _module_level(_core.methods)
 read_curve_ensemble = _module_level(_core.read_curve_ensemble)
 
-__all__ = ["Curve", "DEFAULT_METHOD", "Error", "fit", "fit_many", "methods", "plot",
+__all__ = ["Curve", "DEFAULT_METHOD", "Error", "Path", "fit", "fit_many", "methods", "plot",
            "read_curve_ensemble", "__version__"]
