@@ -13,6 +13,8 @@ point). The compiled part is fairspline._core; its docstrings come from the C++ 
 """
 
 import functools as _functools
+from typing import Literal as _Literal
+from typing import Union as _Union
 
 from . import _core
 from ._core import DEFAULT_METHOD, Curve, Error, Path, __version__
@@ -29,6 +31,21 @@ def _module_level(function):
     wrapper.__module__ = __name__
     wrapper.__qualname__ = function.__name__
     return wrapper
+
+
+# The choices of fit's string arguments, for type annotations (the stub __init__.pyi has the
+# same; tests/python/test_stubs.py checks MethodName against methods()). Unions of one-value
+# Literals: the same type as Literal["a", "b"], in the form mypy's stubtest compares.
+def _choices(*values):
+    return _Union[tuple(_Literal[v] for v in values)]
+
+
+MethodName = _choices("quasi-elastic", "cond-g2", "min-energy", "restricted-elastic", "elastic",
+                      "jaklic-zagar", "li-strain", "li-curvature-variation", "li-combined",
+                      "kozak-krajnc", "yong-cheng")
+ReportLevel = _choices("none", "basic", "full")
+SideState = _choices("regular", "clamped", "free")
+PointKind = _choices("smooth", "clamped", "corner")
 
 
 def _to_matplotlib_path(self):
@@ -68,5 +85,6 @@ fit_many = _module_level(_core.fit_many)
 methods = _module_level(_core.methods)
 read_curve_ensemble = _module_level(_core.read_curve_ensemble)
 
-__all__ = ["Curve", "DEFAULT_METHOD", "Error", "Path", "fit", "fit_many", "methods", "plot",
+__all__ = ["Curve", "DEFAULT_METHOD", "Error", "MethodName", "Path", "PointKind", "ReportLevel",
+           "SideState", "fit", "fit_many", "methods", "plot",
            "read_curve_ensemble", "__version__"]
