@@ -160,6 +160,39 @@ def enum_doc(lines, i):
     return "\n".join("  {}  {}".format(name.ljust(width), doc) for name, doc in out)
 
 
+CONSTANT = re.compile(r"constexpr\s+[\w:]+\s+(k[A-Z]\w*)\s*=\s*([^;]+);")
+
+
+def header_constants(include_dir):
+    """{kName: value text} of every `constexpr T kName = value;` in the public headers."""
+    out = {}
+    for root, _, names in os.walk(os.path.join(include_dir, "fairspline")):
+        for name in names:
+            with open(os.path.join(root, name), encoding="utf-8") as f:
+                for m in CONSTANT.finditer(f.read()):
+                    out[m.group(1)] = m.group(2).strip()
+    return out
+
+
+def pythonize(text, constants):
+    """The C++ comment in a Python user's words: no C++ names, types or `Throws`.
+
+    Error(kCode) -> fairspline.Error (code "code"); Type::member -> `member`; kConstant -> its
+    value; other kEnumerators -> "snake_case" (the JSON/Python spelling); nullopt -> None.
+    """
+    text = re.sub(r"\bError\((k[A-Z]\w*)\)",
+                  lambda m: 'fairspline.Error (code "{}")'.format(snake(m.group(1))), text)
+    text = text.replace("std::thread::hardware_concurrency()", "the number of cores")
+    text = re.sub(r"\bfairspline::(\w+)", r"fairspline.\1", text)
+    text = re.sub(r"\b[A-Z]\w*::(\w+)", r"`\1`", text)
+    text = re.sub(r"\bk[A-Z]\w*\b",
+                  lambda m: constants.get(m.group(0), '"{}"'.format(snake(m.group(0)))), text)
+    text = re.sub(r"\b(std::)?nullopt\b", "None", text)
+    text = re.sub(r"\bThrows\b", "Raises", text)
+    text = re.sub(r"\bthrows\b", "raises", text)
+    return text.replace("``", "`")
+
+
 def main(argv):
     if len(argv) != 3:
         sys.stderr.write(__doc__)
@@ -167,6 +200,7 @@ def main(argv):
     include_dir, output = argv[1], argv[2]
     cache = {}
     entries = []
+    constants = header_constants(include_dir)
     try:
         for key, kind, header, pattern in SYMBOLS:
             path = os.path.join(include_dir, "fairspline", header)
@@ -181,6 +215,7 @@ def main(argv):
                 text = decl_doc(lines, i) if kind == "decl" else enum_doc(lines, i)
             if not text:
                 raise GenError("{}: no doc comment for /{}/ ({})".format(header, pattern, key))
+            text = pythonize(text, constants)
             if ")fsdoc\"" in text:
                 raise GenError("{}: doc of {} contains the raw-string delimiter".format(
                     header, key))

@@ -635,93 +635,134 @@ std::string indented(std::string_view text, std::size_t n) {
   return out;
 }
 
+/// A NumPy-docstring parameter entry: "name : type" and its description indented by 4.
+std::string param(std::string_view name, std::string_view type, std::string_view text) {
+  return std::string(name) + " : " + std::string(type) + "\n    " + indented(text, 4) + "\n";
+}
+
 std::string fit_doc() {
-  const std::string pad(17, ' ');
   return std::string(doc::fit) + R"(
 
-Python: fits `points`, an (n, 2) array-like, and returns a Curve. The GIL is released while the
-curve is fitted, so other Python threads run meanwhile.
+Fits `points` and returns a Curve. The GIL is released while the curve is fitted, so other
+Python threads run meanwhile.
 
-Arguments:
-  method         registered method name (see methods()); default: the registry's default
-  closed         fit a closed curve through the points (the last joins the first)
-  alpha          )" +
-         indented(doc::input_alpha, 17) + "\n" + pad +
-         "None: " + json(FitInput::kDefaultAlpha).dump() + R"(
-  start_tangent, end_tangent
-                 (x, y) or None. )" +
-         indented(doc::input_start_tangent, 17) + R"(
-  tangents       )" +
-         indented(doc::input_tangents, 17) + "\n" + pad +
-         R"(A list of (x, y) or None, one per point.
-  kinds          )" +
-         indented(doc::input_kinds, 17) + "\n" + pad +
-         R"(A list of "smooth" | "clamped" | "corner", one per point:
-)" + pad +
-         indented(doc::point_kinds, 17) +
+Parameters
+----------
+)" +
+         param("points", "array_like, shape (n, 2)",
+               "The points to interpolate (or the centres of data balls).") +
+         param("method", "str",
+               "A registered method name (see methods()); default \"" +
+                   std::string(fairspline::default_method_name()) + "\".") +
+         param("closed", "bool",
+               "Fit a closed curve through the points (the last joins the first).") +
+         param("alpha", "float or None",
+               std::string(doc::input_alpha) + " None: " + json(FitInput::kDefaultAlpha).dump() +
+                   ".") +
+         param("start_tangent, end_tangent", "(x, y) or None", doc::input_start_tangent) +
+         param("tangents", "sequence of (x, y) or None, optional",
+               std::string(doc::input_tangents) + "\nOne entry per point.") +
+         param("kinds", "sequence of {\"smooth\", \"clamped\", \"corner\"}, optional",
+               std::string(doc::input_kinds) + "\n" + doc::point_kinds) +
+         param("states", "sequence of str or (str, str), optional",
+               std::string(doc::input_states) +
+                   "\nEach \"regular\" | \"clamped\" | \"free\", or a pair (in, out):\n" +
+                   doc::side_states) +
+         param("in_tangents, out_tangents", "sequence of (x, y) or None, optional",
+               doc::input_side_tangents) +
+         param("corners_deg", "array_like, shape (n,), optional", doc::input_corners_deg) +
+         param("radii", "array_like, shape (n,), optional",
+               std::string(doc::input_radii) +
+                   " The chosen positions are the curve's `points`; `method_report[\"balls\"]` "
+                   "says which discs are active.") +
+         param("knots", "array_like, optional", doc::input_knots) +
+         param("report", "{\"none\", \"basic\", \"full\"}",
+               std::string(doc::report_level) + " Default \"full\".\n" + doc::report_levels) +
+         param("accuracy", "float or None", std::string(doc::fit_options_accuracy)) +
+         param("best_effort", "bool",
+               std::string(doc::fit_options_best_effort) + " Default False.") +
+         param("options, **options", "dict",
+               std::string("Method options (a dict, merged with the keyword arguments), validated "
+                           "against the method's schema (see methods()): ") +
+                   doc::resolve_options +
+                   "\noptions= serves names that are Python keywords or arguments of fit "
+                   "itself, e.g. options={\"lambda\": 0.5} or kozak-krajnc's "
+                   "options={\"tangents\": \"sweep\"}.") +
          R"(
-  states         )" +
-         indented(doc::input_states, 17) + "\n" + pad +
-         R"(A list, one per point, of "regular" | "clamped" | "free" or a pair (in, out):
-)" + pad +
-         indented(doc::side_states, 17) + R"(
-  in_tangents, out_tangents
-                 )" +
-         indented(doc::input_side_tangents, 17) + R"(
-  corners_deg    )" +
-         indented(doc::input_corners_deg, 17) + R"(
-  radii          )" +
-         indented(doc::input_radii, 17) + R"( A 1-D array, one per point;
-                 the chosen positions are the curve's `points` and
-                 `method_report["balls"]` says which discs are active.
-  knots          )" +
-         indented(doc::input_knots, 17) + R"(
-  report         "none" | "basic" | "full" (default). )" +
-         indented(doc::report_level, 17) + "\n" + pad + indented(doc::report_levels, 17) + R"(
-  accuracy       )" +
-         indented(doc::fit_options_accuracy, 17) + R"( Default 1e-9.
-  best_effort    )" +
-         indented(doc::fit_options_best_effort, 17) + R"( Default False.
-  options, **options
-                 method options (a dict, merged with the keyword arguments), validated
-                 against the method's schema (see methods()):
-                 )" +
-         indented(doc::resolve_options, 17) +
-         R"(
-                 options= serves names that are Python keywords or arguments of fit itself,
-                 e.g. options={"lambda": 0.5} or kozak-krajnc's options={"tangents": "sweep"}.
+Returns
+-------
+Curve
+    The fitted curve with its report (see Curve).
 
-Raises fairspline.Error (a ValueError) with .code and .index (the offending point), e.g.
-code "non_finite" for NaN/Inf, "repeated_point", "too_few_points", "unknown_method",
-"unknown_option", "bad_option"; a points argument that is not an (n, 2) array gives
-"invalid_argument".)";
+Raises
+------
+fairspline.Error
+    A ValueError with .code and .index (the offending point): e.g. "non_finite" for NaN/Inf,
+    "repeated_point", "too_few_points", "unknown_method", "unknown_option", "bad_option",
+    "infeasible"; points that are not an (n, 2) array give "invalid_argument".
+
+Examples
+--------
+>>> import fairspline
+>>> curve = fairspline.fit([(1, 90), (3, 105), (6, 120), (10, 100)], method="li-strain")
+>>> curve.segments.shape
+(3, 4, 2)
+>>> bool(curve.report["regular"])
+True
+>>> fairspline.fit([(0, 0), (1, 1)], method="cond-g2", lambda_=1)
+Traceback (most recent call last):
+    ...
+fairspline.Error: method cond-g2 has no option 'lambda_'; its options: basis, lambda, omega_deg, max_iterations, search
+>>> fairspline.fit([(0, 0), (1, 1)], method="cond-g2", options={"lambda": 0.5}).method
+'cond-g2')";
 }
 
 std::string fit_many_doc() {
   return std::string(doc::batch_overview) + "\n\n" + doc::fit_many + R"(
 
-Python: fits every (n_i, 2) array-like of `curves` with the same method, options and
-closed/alpha/end tangents (see fit() for these arguments and for options= / **options) and
-returns a list of Curve in input order. The GIL is released while the curves are fitted.
+Fits every (n_i, 2) array-like of `curves` with the same method, options and closed/alpha/end
+tangents and returns a list in input order. The GIL is released while the curves are fitted.
 
-  threads   )" +
-         doc::batch_threads +
-         R"(. None: every core.
-  report    "none" | "basic" | "full" (default); "none" is fastest.
-  accuracy, best_effort
-            as for fit().
-  errors    "raise" (default): every curve is fitted, then the error of the first curve that
-            failed is raised as fairspline.Error whose .curve is that curve's position in the
-            list (.index is still the point within the curve) and whose message starts with
-            "curve i: ". "return": a failed curve's entry in the list is its fairspline.Error
-            instance (not raised), the other entries are Curves.
-  progress  None, or a callable progress(done, total) called on the calling thread as curves
-            finish (about every 50 ms, and once with done == total), e.g. a tqdm bar's
-            update. An exception it raises stops the batch and is raised.
+Parameters
+----------
+curves : iterable of array_like, each of shape (n_i, 2)
+    The point sets.
+method, closed, alpha, start_tangent, end_tangent, accuracy, best_effort, options, **options
+    As for fit().
+)" + param("threads", "int or None", std::string(doc::batch_threads) + ". None: every core.") +
+         param("report", "{\"none\", \"basic\", \"full\"}", "As for fit(); \"none\" is fastest.") +
+         param("errors", "{\"raise\", \"return\"}",
+               "\"raise\" (default): every curve is fitted, then the error of the first curve "
+               "that failed is raised as fairspline.Error whose .curve is that curve's position "
+               "in the list (.index is still the point within the curve) and whose message "
+               "starts with \"curve i: \". \"return\": a failed curve's entry in the list is its "
+               "fairspline.Error instance (not raised), the other entries are Curves.") +
+         param("progress", "callable or None",
+               "progress(done, total), called on the calling thread as curves finish (about "
+               "every 50 ms, and once with done == total), e.g. a tqdm bar's update. An "
+               "exception it raises stops the batch and is raised.") +
+         R"(
+Returns
+-------
+list
+    One Curve per input curve (or, with errors="return", its fairspline.Error).
 
-Ctrl-C (KeyboardInterrupt) stops a running batch within about 0.1 s: curves not yet started
-are skipped and KeyboardInterrupt is raised. A curve that is not an (n, 2) array raises
-fairspline.Error (.curve set) before any fitting.)";
+Raises
+------
+fairspline.Error
+    As for fit(), with .curve set; a curve that is not an (n, 2) array raises before any
+    fitting.
+KeyboardInterrupt
+    Ctrl-C stops a running batch within about 0.1 s; curves not yet started are skipped.
+
+Examples
+--------
+>>> import fairspline
+>>> curves = fairspline.fit_many([[(0, 0), (1, 1), (2, 0)], [(0, 0), (0, 0)]], errors="return")
+>>> [type(c).__name__ for c in curves]
+['Curve', 'Error']
+>>> curves[1].code
+'repeated_point')";
 }
 
 std::string error_doc() {

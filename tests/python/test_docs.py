@@ -1,9 +1,15 @@
 """Docstrings come from the C++ headers' doc comments (one source, extracted at build time)."""
 
 import re
+import sys
 
 import fairspline
 from conftest import INCLUDE_DIR, SOURCE_DIR
+
+sys.path.insert(0, str(SOURCE_DIR / "python"))
+import gen_docstrings  # noqa: E402  (the generator's own translation of C++ names)
+
+CONSTANTS = gen_docstrings.header_constants(str(SOURCE_DIR / "include"))
 
 
 def header_doc(header, declaration):
@@ -15,7 +21,7 @@ def header_doc(header, declaration):
         i -= 1
         doc.insert(0, lines[i].strip()[3:].strip())
     assert doc, "no doc comment above {} in {}".format(declaration, header)
-    return doc
+    return [gen_docstrings.pythonize(line, CONSTANTS) for line in doc]
 
 
 def assert_in(doc_lines, text):
@@ -64,3 +70,44 @@ def test_error_lists_every_code_with_its_comment():
 def test_python_only_functions_have_docstrings():
     assert "Matplotlib" in fairspline.plot.__doc__
     assert fairspline.__doc__ and "fit_many" in fairspline.__doc__
+
+
+def public_docstrings():
+    """(name, docstring) of every public function, class, method and property of the module."""
+    out = []
+    for name in fairspline.__all__:
+        obj = getattr(fairspline, name)
+        if callable(obj) and getattr(obj, "__doc__", None):
+            out.append((name, obj.__doc__))
+        if isinstance(obj, type) and obj.__module__.startswith("fairspline"):
+            for attr, member in vars(obj).items():
+                doc = getattr(member, "__doc__", None)
+                if doc and (not attr.startswith("_") or attr in ("__call__", "__init__")):
+                    out.append((name + "." + attr, doc))
+    return out
+
+
+def test_docstrings_speak_python_not_cpp():
+    # gen_docstrings.pythonize turns the headers' C++ names into the Python ones.
+    cpp = re.compile(r"::|\bk[A-Z][a-zA-Z]+\b|\bnullopt\b|\bThrows\b|std::")
+    found = [(name, m.group(0)) for name, doc in public_docstrings()
+             for m in [cpp.search(doc.split("\n", 1)[-1])] if m]
+    assert not found, found
+    assert len(public_docstrings()) > 60
+
+
+def test_numpy_style_sections_and_their_examples_run():
+    import doctest
+
+    for fn in (fairspline.fit, fairspline.fit_many):
+        for section in ("Parameters\n----------", "Returns\n-------", "Raises\n------",
+                        "Examples\n--------"):
+            assert section in fn.__doc__, (fn.__name__, section)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    tries = 0
+    for name, doc in public_docstrings():
+        test = doctest.DocTestParser().get_doctest(doc, {}, name, None, 0)
+        runner.run(test)
+        tries += len(test.examples)
+    assert runner.failures == 0
+    assert tries >= 15
