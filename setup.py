@@ -78,6 +78,9 @@ class CMakeBuild(build_ext):
             raise RuntimeError(f"CMake installed {found}, not {built.name} (another interpreter?)")
 
 
+# Older setuptools (58, Python 3.9's venv) refuse an egg_base that does not exist yet.
+os.makedirs(ROOT / "build-python", exist_ok=True)
+
 setup(
     version=cmake_project_version(),
     # Setuptools' own files stay out of the source tree's build/ (the CMake build of `make`).
