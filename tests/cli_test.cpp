@@ -1,8 +1,12 @@
 // End-to-end tests of the `fairspline` command.
+#include <cctype>
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -285,6 +289,152 @@ TEST_F(Cli, OutputFormatsFilesAndSummary) {
   const fs::path out_csv = dir_ / "fit.csv";
   ASSERT_EQ(run("fit " + quote(kExample) + " -o " + quote(out_csv.string())).exit_code, 0);
   EXPECT_EQ(slurp(out_csv).rfind("x0,y0", 0), 0u);
+}
+
+/// The numbers of SVG path data in order (command letters dropped), read with std::from_chars;
+/// `commands` gets the letters.
+std::vector<double> path_numbers(std::string_view d, std::string& commands) {
+  std::vector<double> out;
+  std::size_t i = 0;
+  while (i < d.size()) {
+    const char c = d[i];
+    if (c == ' ') {
+      ++i;
+    } else if (std::isalpha(static_cast<unsigned char>(c))) {
+      commands += c;
+      ++i;
+    } else {
+      double v = 0;
+      const auto [end, ec] = std::from_chars(d.data() + i, d.data() + d.size(), v);
+      EXPECT_TRUE(ec == std::errc()) << d.substr(i);
+      if (ec != std::errc()) break;
+      out.push_back(v);
+      i = static_cast<std::size_t>(end - d.data());
+    }
+  }
+  return out;
+}
+
+TEST_F(Cli, SvgPathOutputIsTheControlPointsOfTheJsonOutput) {
+  for (const std::string closed : {"", " --closed"}) {
+    SCOPED_TRACE(closed);
+    const CliRun js = run("fit " + quote(kExample) + closed);
+    const CliRun path = run("fit " + quote(kExample) + closed + " -f svg-path");
+    ASSERT_EQ(js.exit_code, 0) << js.err;
+    ASSERT_EQ(path.exit_code, 0) << path.err;
+    // One line: the d attribute and a newline.
+    ASSERT_FALSE(path.out.empty());
+    EXPECT_EQ(path.out.find('\n'), path.out.size() - 1);
+    std::string commands;
+    const std::vector<double> numbers =
+        path_numbers(std::string_view(path.out).substr(0, path.out.size() - 1), commands);
+    const json segments = json::parse(js.out)["segments"];
+    EXPECT_EQ(commands, "M" + std::string(segments.size(), 'C') + (closed.empty() ? "" : "Z"));
+    std::vector<double> expected;
+    for (std::size_t k = 0; k < segments.size(); ++k) {
+      for (std::size_t j = k == 0 ? 0 : 1; j < 4; ++j) {
+        expected.push_back(segments[k]["bezier"][j][0].get<double>());
+        expected.push_back(segments[k]["bezier"][j][1].get<double>());
+      }
+    }
+    EXPECT_EQ(numbers, expected);  // exactly: both are shortest round-trip digits
+  }
+}
+
+TEST_F(Cli, GeoJsonOutputAndItsTolerance) {
+  for (const bool closed : {false, true}) {
+    SCOPED_TRACE(closed ? "closed" : "open");
+    const std::string args = "fit " + quote(kExample) + (closed ? " --closed" : "");
+    const json fit = json::parse(run(args).out);
+    const json& points = fit["points"];
+    std::size_t previous = 0;
+    for (const std::string tolerance :
+         {"", " --tolerance 1", " --tolerance 0.1", " --tolerance 0.01", " --tolerance 0.001"}) {
+      SCOPED_TRACE(tolerance);
+      const CliRun r = run(args + " -f geojson" + tolerance);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      const json f = json::parse(r.out);
+      EXPECT_EQ(f["type"], "Feature");
+      EXPECT_EQ(f["geometry"]["type"], "LineString");
+      EXPECT_EQ(f["properties"]["method"], "quasi-elastic");
+      EXPECT_EQ(f["properties"]["closed"], closed);
+      const json& c = f["geometry"]["coordinates"];
+      ASSERT_GE(c.size(), 2u);
+      EXPECT_EQ(c.front(), points.front());
+      EXPECT_EQ(c.back(), closed ? points.front() : points.back());
+      if (tolerance.empty()) {
+        // The default: 1e-4 of the diagonal of the curve's bounds (~42 for this example).
+        const double t = f["properties"]["tolerance"].get<double>();
+        EXPECT_GT(t, 1e-4 * 35);
+        EXPECT_LT(t, 1e-4 * 60);
+        continue;
+      }
+      EXPECT_EQ(f["properties"]["tolerance"].get<double>(), std::stod(tolerance.substr(13)));
+      EXPECT_GT(c.size(), previous);  // a smaller tolerance, more vertices
+      previous = c.size();
+    }
+  }
+  // With -o NAME.geojson the format follows the extension and --tolerance applies.
+  const fs::path out = dir_ / "fit.geojson";
+  const CliRun file_out =
+      run("fit " + quote(kExample) + " --tolerance 0.5 -o " + quote(out.string()));
+  ASSERT_EQ(file_out.exit_code, 0) << file_out.err;
+  EXPECT_EQ(json::parse(slurp(out))["properties"]["tolerance"], 0.5);
+}
+
+TEST_F(Cli, ToleranceOnlyForGeoJsonAndOnlyPositive) {
+  const std::string svg_file = " -o " + quote((dir_ / "fit.svg").string());
+  for (const std::string& other :
+       std::vector<std::string>{" -f svg", " -f json", " -f svg-path", " -f csv", "", svg_file}) {
+    const CliRun r = run("fit " + quote(kExample) + other + " --tolerance 0.1");
+    EXPECT_EQ(r.exit_code, 2) << other;
+    EXPECT_TRUE(r.out.empty()) << other;
+    EXPECT_NE(r.err.find("--tolerance applies only to -f geojson"), std::string::npos)
+        << other << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "fit.svg"));
+  for (const std::string bad : {"0", "-1", "nan", "inf"}) {
+    const CliRun r = run("fit " + quote(kExample) + " -f geojson --tolerance " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--tolerance must be a positive number"), std::string::npos)
+        << bad << ": " << r.err;
+  }
+  EXPECT_EQ(run("fit " + quote(kExample) + " -f geojson --tolerance abc").exit_code, 2);
+}
+
+TEST_F(Cli, OutputFormatFromTheExtension) {
+  const auto fit_to = [&](const std::string& name, const std::string& extra = "") {
+    const fs::path out = dir_ / name;
+    const CliRun r = run("fit " + quote(kExample) + extra + " -o " + quote(out.string()));
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    return slurp(out);
+  };
+  EXPECT_TRUE(json::parse(fit_to("fit.json")).contains("segments"));
+  EXPECT_TRUE(json::parse(fit_to("FIT.JSON")).contains("segments"));  // any case
+  EXPECT_EQ(fit_to("fit.csv").rfind("x0,y0,x1,y1,x2,y2,x3,y3\n", 0), 0u);
+  EXPECT_NE(fit_to("fit.svg").find("<svg xmlns=\"http://www.w3.org/2000/svg\""), std::string::npos);
+  EXPECT_EQ(json::parse(fit_to("fit.geojson"))["type"], "Feature");
+  // A name without an extension (/dev/stdout, a fifo) keeps JSON, the default; -f wins over
+  // the extension.
+  EXPECT_TRUE(json::parse(fit_to("fit")).contains("segments"));
+  EXPECT_EQ(fit_to("fit.xyz", " -f svg-path").rfind("M1 90 C", 0), 0u);
+  EXPECT_EQ(fit_to("fit.txt", " -f ce").rfind("#Curve Ensemble Text File", 0), 0u);
+  // Any other extension is refused before fitting, naming the known ones and -f (it used to
+  // write JSON whatever the name said).
+  for (const std::string name : {"fit.xyz", "fit.txt", "fit.jsonl", "fit.path"}) {
+    const fs::path out = dir_ / ("refused-" + name);
+    const CliRun r = run("fit " + quote(kExample) + " -o " + quote(out.string()));
+    EXPECT_EQ(r.exit_code, 2) << name;
+    EXPECT_FALSE(fs::exists(out)) << name;
+    const std::string ext = name.substr(name.find('.'));
+    EXPECT_NE(r.err.find("fairspline: error [invalid_argument]: cannot tell the output format "
+                         "from the extension '" +
+                         ext + "'"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("(known: .json, .csv, .svg, .geojson)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("give it with -f"), std::string::npos) << r.err;
+  }
 }
 
 TEST_F(Cli, SvgOutputRendersWithRsvg) {

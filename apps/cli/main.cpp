@@ -20,6 +20,8 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -31,6 +33,7 @@
 #include "fairspline/io/csv.hpp"
 #include "fairspline/io/curve_ensemble.hpp"
 #include "fairspline/io/json.hpp"
+#include "fairspline/io/paths.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
 #include "server.hpp"
@@ -145,10 +148,33 @@ struct FitArgs {
   std::string report = "full";
   bool summary = false;
   int indent = -1;
-  std::optional<double> accuracy;  ///< else the request's, else the default
-  bool best_effort = false;        ///< or the request's
+  std::optional<double> accuracy;   ///< else the request's, else the default
+  bool best_effort = false;         ///< or the request's
+  std::optional<double> tolerance;  ///< GeoJSON's flattening tolerance, else its default
   CLI::Option* alpha_opt = nullptr;
 };
+
+/// The output formats an -o extension implies (compared in lower case). Only the extensions
+/// whose meaning is unambiguous: .txt could be CSV or Curve Ensemble, so `ce` needs -f.
+constexpr std::pair<std::string_view, std::string_view> kFormatOfExtension[] = {
+    {".json", "json"}, {".csv", "csv"}, {".svg", "svg"}, {".geojson", "geojson"}};
+
+/// The output format: -f, else the -o file's extension; JSON for standard output and for a
+/// name without an extension (/dev/stdout, a fifo). An extension we do not know is refused
+/// rather than answered with JSON: `-o fit.geojson` used to write fairspline JSON silently.
+std::string output_format(const std::string& format, const std::string& output) {
+  if (!format.empty()) return format;
+  if (output.empty() || output == "-") return "json";
+  const std::string ext = lower(fs::path(output).extension().string());
+  if (ext.empty()) return "json";
+  std::string known;
+  for (const auto& [e, f] : kFormatOfExtension) {
+    if (ext == e) return std::string(f);
+    known += (known.empty() ? "" : ", ") + std::string(e);
+  }
+  usage_fail("cannot tell the output format from the extension '" + ext + "' of '" + output +
+             "' (known: " + known + "); give it with -f json|csv|svg|svg-path|geojson|ce");
+}
 
 int run_fit(const FitArgs& a) {
   // 1. Input (errors here are malformed/unreadable input: exit 2).
@@ -201,11 +227,19 @@ int run_fit(const FitArgs& a) {
   }
   const fairspline::ReportLevel level = fairspline::io::parse_report_level(a.report);
 
-  // Output format: -f, else the extension of -o, else JSON.
-  std::string format = a.format;
-  if (format.empty()) {
-    const std::string ext = lower(fs::path(a.output).extension().string());
-    format = ext == ".svg" ? "svg" : ext == ".csv" ? "csv" : "json";
+  // Checked before the fit, which may take long: a wrong output request fails at once.
+  const std::string format = output_format(a.format, a.output);
+  if (a.tolerance) {
+    // Only GeoJSON flattens the curve; a tolerance given to another format would be ignored.
+    if (format != "geojson") {
+      usage_fail("--tolerance applies only to -f geojson (the output format here is " + format +
+                 ")");
+    }
+    if (!(*a.tolerance > 0.0) || !std::isfinite(*a.tolerance)) {
+      usage_fail(
+          "--tolerance must be a positive number (in the data's units); leave it out for "
+          "the default, 1e-4 of the diagonal of the curve's bounds");
+    }
   }
 
   // 3. Fit (errors here: exit 1).
@@ -223,6 +257,10 @@ int run_fit(const FitArgs& a) {
     text = fairspline::io::write_csv(result);
   } else if (format == "ce") {
     text = fairspline::io::write_curve_ensemble(result);
+  } else if (format == "svg-path") {
+    text = fairspline::io::svg_path_data(result.spline) + "\n";
+  } else if (format == "geojson") {
+    text = fairspline::io::write_geojson(result, a.tolerance.value_or(0.0));
   } else {
     text = fairspline::io::write_json(result, a.indent) + "\n";
   }
@@ -423,15 +461,21 @@ int run(int argc, char** argv) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   fit->add_option("-f,--format", fa.format,
-                  "Output format (default: from the -o extension, else json); ce: Curve "
-                  "Ensemble's text file (x y direction corner state energy per node)")
-      ->check(CLI::IsMember({"json", "csv", "svg", "ce"}));
+                  "Output format (default: from the -o extension: .json, .csv, .svg, .geojson; "
+                  "json for standard output or a name without extension; any other extension "
+                  "needs -f). svg-path: the d attribute of an SVG path in data coordinates "
+                  "(one line); geojson: a GeoJSON Feature, the curve flattened to a LineString; "
+                  "ce: Curve Ensemble's text file (x y direction corner state energy per node)")
+      ->check(CLI::IsMember({"json", "csv", "svg", "svg-path", "geojson", "ce"}));
   fit->add_option("--input-format", fa.input_format,
                   "Input format (default auto: a Curve Ensemble file by its header line "
                   "'#Curve Ensemble Text File', JSON by extension or a leading { or [, else "
                   "CSV); ce reads Curve Ensemble's node states, directions and corners")
       ->check(CLI::IsMember({"auto", "csv", "json", "ce"}));
   fit->add_option("-o,--output", fa.output, "Output file (default: standard output)");
+  fit->add_option("--tolerance", fa.tolerance,
+                  "-f geojson only: the largest distance of the LineString from the curve, in "
+                  "the data's units (default: 1e-4 of the diagonal of the curve's bounds)");
   fit->add_option("--report", fa.report, "Report level (default: full)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
   add_fit_options(*fit, fa.accuracy, fa.best_effort);
