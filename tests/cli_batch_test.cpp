@@ -493,6 +493,121 @@ TEST_F(CliBatch, BestEffortAndAccuracyFromTheLineOrTheFlags) {
   EXPECT_EQ(run("batch " + quote(coarse.string()) + " --accuracy 1e-6").exit_code, 0);
 }
 
+/// The text of member `key` of a compact one-line record ("\"key\":" up to its end).
+std::string member_text(const std::string& record, const std::string& key) {
+  const json parsed = json::parse(record);
+  const std::string value = parsed.at(key).dump();
+  const auto at = record.find("\"" + key + "\":");
+  return at == std::string::npos ? "" : record.substr(at, key.size() + 3 + value.size());
+}
+
+std::vector<std::string> raw_lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+TEST_F(CliBatch, FieldsKeepOnlyTheNamedMembers) {
+  json closed = walk_request(12, 8);
+  closed["closed"] = true;
+  closed["method"] = "li-strain";
+  json repeated = walk_request(6, 9);
+  repeated["points"][2] = repeated["points"][1];
+  const std::string text =
+      walk_request(20, 7).dump() + "\n" + repeated.dump() + "\nnot json\n" + closed.dump() + "\n";
+  const fs::path in = file("in.jsonl", text);
+  const CliRun whole = run("batch " + quote(in.string()) + " --report full");
+  const CliRun cut = run("batch " + quote(in.string()) +
+                         " --report full --fields 'segments, report.bending_energy,report.length'");
+  EXPECT_EQ(cut.exit_code, 1);
+  EXPECT_EQ(cut.err, whole.err);  // the same failures
+  const std::vector<std::string> a = raw_lines(whole.out), b = raw_lines(cut.out);
+  ASSERT_EQ(a.size(), 4u);
+  ASSERT_EQ(b.size(), 4u);
+  for (const std::size_t i : {0u, 3u}) {
+    const json rec = json::parse(b[i]);
+    std::vector<std::string> keys;
+    for (auto it = rec.begin(); it != rec.end(); ++it) keys.push_back(it.key());
+    // "line" and "method" always: they tell the records apart.
+    EXPECT_EQ(keys, (std::vector<std::string>{"line", "method", "report", "segments"})) << b[i];
+    EXPECT_EQ(rec["report"].size(), 2u);
+    // The members kept are the whole record's, byte for byte.
+    const json full = json::parse(a[i]);
+    EXPECT_EQ(rec["report"]["bending_energy"], full["report"]["bending_energy"]);
+    EXPECT_EQ(rec["report"]["length"], full["report"]["length"]);
+    for (const std::string key : {"segments", "line", "method"}) {
+      EXPECT_NE(member_text(a[i], key), "");
+      EXPECT_EQ(member_text(b[i], key), member_text(a[i], key)) << key;
+    }
+    EXPECT_LT(b[i].size(), a[i].size() / 2);
+  }
+  // Error records are written whole.
+  EXPECT_EQ(b[1], a[1]);
+  EXPECT_EQ(b[2], a[2]);
+  EXPECT_EQ(json::parse(b[1])["error"]["code"], "repeated_point");
+  EXPECT_EQ(json::parse(b[2])["error"]["code"], "parse_error");
+
+  // Members of the method's report, options and request may be named freely (they depend on
+  // the method and the request); a name the object lacks leaves it out.
+  const CliRun open = run("batch " + quote(in.string()) +
+                          " --fields request.closed,method_report.nothing_like_this,options");
+  const std::vector<json> c = parse_lines(open.out);
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_EQ(c[0]["request"], json::object());  // an open curve: "closed" is not written
+  EXPECT_EQ(c[3]["request"], json({{"closed", true}}));
+  EXPECT_EQ(c[3]["method_report"], json::object());
+  EXPECT_EQ(c[3]["options"], json::parse(a[3])["options"]);
+  EXPECT_EQ(c[3]["method"], "li-strain");
+}
+
+TEST_F(CliBatch, EveryFieldNamedGivesTheWholeRecordByteForByte) {
+  // The member scan takes apart every record of the mixed lines (methods with their own
+  // reports, open and closed, errors) and puts it together again unchanged.
+  std::vector<std::optional<json>> requests;
+  const fs::path in = file("mixed.jsonl", mixed_lines(120, requests));
+  const CliRun whole = run("batch " + quote(in.string()) + " --report full");
+  const CliRun named = run("batch " + quote(in.string()) +
+                           " --report full --fields closed,knots,line,method,method_report,"
+                           "options,points,report,request,segments,tangents");
+  EXPECT_EQ(whole.exit_code, 1);
+  EXPECT_EQ(named.exit_code, 1);
+  ASSERT_GT(whole.out.size(), 50'000u);
+  EXPECT_TRUE(named.out == whole.out);
+  // The same at the basic level, on one thread, with the names in another order.
+  const CliRun basic = run("batch " + quote(in.string()) + " --threads 1");
+  const CliRun basic_named =
+      run("batch " + quote(in.string()) +
+          " --threads 1 --fields tangents,segments,request,report,points,options,"
+          "method_report,knots,closed");
+  EXPECT_TRUE(basic_named.out == basic.out);
+}
+
+TEST_F(CliBatch, UnknownFieldsAreUsageErrors) {
+  const fs::path in = file("in.jsonl", walk_request(5, 1).dump() + "\n");
+  for (const std::string bad :
+       {"segmnts", "segments.bezier", "report.nope", "report.", "segments,,points",
+        "method_report.", "request.points.x", "error", "", "segments,"}) {
+    const CliRun r = run("batch " + quote(in.string()) + " --fields " + quote(bad));
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_EQ(r.out, "") << bad;
+    EXPECT_NE(r.err.find("fairspline: error [invalid_argument]: --fields: unknown field '"),
+              std::string::npos)
+        << bad << ": " << r.err;
+    // The message lists what there is.
+    EXPECT_NE(r.err.find("the fields are closed, knots, line, method, method_report, options, "
+                         "points, report, request, segments, tangents; report.NAME for NAME "
+                         "one of bending_energy, "),
+              std::string::npos)
+        << r.err;
+  }
+  const CliRun none =
+      run("batch " + quote(in.string()) + " --report none --fields segments,report.length");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("--report none writes none"), std::string::npos) << none.err;
+  EXPECT_EQ(run("batch " + quote(in.string()) + " --report none --fields segments").exit_code, 0);
+}
+
 }  // namespace
 
 #endif  // FAIRSPLINE_CLI

@@ -3,8 +3,8 @@
 
 #include <optional>
 #include <string>
-
 #include <vector>
+
 #include "fairspline/fit.hpp"
 
 namespace fairspline::cli {
@@ -19,12 +19,15 @@ struct BatchArgs {
   bool quiet = false;                ///< no progress line even on a terminal
   std::optional<double> accuracy;    ///< --accuracy, else each line's, else the default
   bool best_effort = false;          ///< --best-effort, or each line's
+  /// --fields: comma-separated members a fit record keeps ("segments", "report.length"); none:
+  /// the whole record.
+  std::optional<std::string> fields;
 };
 
 /// Runs the batch and returns the exit status: 0 every record succeeded, 1 some record failed
 /// (stderr then ends with "fairspline batch: F of N records failed"). Throws fairspline::Error
-/// for what the caller reports as a usage error (exit 2): an unknown method, unreadable input,
-/// unwritable output.
+/// for what the caller reports as a usage error (exit 2): an unknown method or field, unreadable
+/// input, unwritable output.
 int run_batch(const BatchArgs& args);
 
 }  // namespace fairspline::cli

@@ -505,6 +505,13 @@ int run(int argc, char** argv) {
   batch->add_option("--report", bta.report, "Report level (default: basic)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
   add_fit_options(*batch, bta.accuracy, bta.best_effort);
+  batch
+      ->add_option("--fields", bta.fields,
+                   "Comma-separated members a fit record keeps, e.g. segments,report.length: "
+                   "top-level keys of the record, or NAME.KEY for one member of the report, "
+                   "method_report, options or request object. \"line\" and \"method\" are always "
+                   "kept; error records are written whole (default: the whole record)")
+      ->type_name("LIST");
   batch->add_flag("--quiet", bta.quiet, "No progress line (shown only when stderr is a terminal)");
   batch->footer(
       "Exit codes: 0 every record succeeded, 1 some record failed (its error record is in the "
