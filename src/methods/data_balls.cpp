@@ -473,6 +473,11 @@ constexpr double kCrossOver = 1e-3;
 /// A KKT residual the optimizer may stop at when no step lowers the energy any more.
 constexpr double kConditioningResidual = 1e-6;
 
+/// The elastic spline: the output interpolation's directions agree with the optimizer's to this
+/// angle (rad), or the optimizer goes on from them, at most kOutputRounds times.
+constexpr double kOutputAgreement = 1e-6;
+constexpr int kOutputRounds = 3;
+
 class Solver {
  public:
   Solver(Problem& pb, State& st, const MinEnergyOptions& options)
@@ -1331,10 +1336,10 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       res.iterations += before;
     }
   }
-  const int iterations = res.iterations;
-  const bool converged = res.converged,
-             at_precision = !converged && res.stalled && res.residual <= kConditioningResidual;
-  const double residual = res.residual;
+  int iterations = res.iterations;
+  bool converged = res.converged;
+  bool at_precision = !converged && res.stalled && res.residual <= kConditioningResidual;
+  double residual = res.residual;
   const std::size_t worst = res.worst;
   if (!converged && !at_precision && !options.best_effort) {
     if (!std::isfinite(residual)) {
@@ -1363,20 +1368,100 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   }
 
   // The curve: the interpolation through the chosen positions, from the optimum's directions.
-  SpanDirections best(ns);
-  for (std::size_t s = 0; s < ns; ++s) {
-    const Node& a = pb.node[s];
-    const Node& b = pb.node[pb.next(s)];
-    const double o = pb.slot[a.out].theta + (a.in == a.out ? a.corner : 0.0);
-    best[s] = {Vec2{std::cos(o), std::sin(o)},
-               Vec2{std::cos(pb.slot[b.in].theta), std::sin(pb.slot[b.in].theta)}};
-  }
+  // The elastic interpolation handles the energy's ridges, which this Newton does not: where it
+  // moves the directions on (a lower energy across a ridge) the positions are no longer
+  // stationary, so the ball optimizer goes on from its directions, a few times at most.
+  auto optimum_directions = [&] {
+    SpanDirections best(ns);
+    for (std::size_t s = 0; s < ns; ++s) {
+      const Node& a = pb.node[s];
+      const Node& b = pb.node[pb.next(s)];
+      const double o = pb.slot[a.out].theta + (a.in == a.out ? a.corner : 0.0);
+      best[s] = {Vec2{std::cos(o), std::sin(o)},
+                 Vec2{std::cos(pb.slot[b.in].theta), std::sin(pb.slot[b.in].theta)}};
+    }
+    return best;
+  };
   FitInput moved = input;
   moved.radii.clear();
-  for (std::size_t i = 0; i < n; ++i) moved.points[i] = pb.node[i].p;
-  if (moved.points.size() > n) moved.points[n] = pb.node[0].p;  // a closed curve's repeat
   MinEnergyReport rep;
-  fit_min_energy_at(moved, options, level, out, &rep, &best, nullptr);
+  for (int round = 0;; ++round) {
+    for (std::size_t i = 0; i < n; ++i) moved.points[i] = pb.node[i].p;
+    if (moved.points.size() > n) moved.points[n] = pb.node[0].p;  // a closed curve's repeat
+    const SpanDirections best = optimum_directions();
+    SpanDirections got;
+    rep = MinEnergyReport{};
+    fit_min_energy_at(moved, options, level, out, &rep, &best, &got);
+    if (pb.m.basis != MinEnergyBasis::kElastic) break;
+    // A span the interpolation puts on its pair bound |α − β| = π is one the optimizer holds
+    // just inside it by the barrier: its directions differ by the barrier's margin, and the
+    // bound itself would be outside the barrier's domain. Its slots are neither compared nor
+    // taken.
+    std::vector<char> on_pair(ns, 0);
+    for (std::size_t s : rep.active_spans) {
+      if (s < ns) on_pair[s] = 1;
+    }
+    std::vector<char> keep(pb.slot.size(), 0);
+    for (std::size_t s = 0; s < ns; ++s) {
+      if (!on_pair[s]) continue;
+      keep[static_cast<std::size_t>(pb.node[s].out)] = 1;
+      keep[static_cast<std::size_t>(pb.node[pb.next(s)].in)] = 1;
+    }
+    double moved_by = 0.0;
+    for (std::size_t s = 0; s < ns && s < got.size(); ++s) {
+      if (keep[static_cast<std::size_t>(pb.node[s].out)] ||
+          keep[static_cast<std::size_t>(pb.node[pb.next(s)].in)]) {
+        continue;
+      }
+      for (int e = 0; e < 2; ++e) {
+        moved_by = std::max(moved_by, std::abs(std::atan2(cross(best[s][e], got[s][e]),
+                                                          dot(best[s][e], got[s][e]))));
+      }
+    }
+    if (moved_by <= kOutputAgreement) break;
+    if (round == kOutputRounds) {
+      if (options.best_effort) break;
+      throw Error(ErrorCode::kNotConverged,
+                  "the data-ball optimizer did not converge with the elastic spline: its "
+                  "directions and the elastic interpolation's through the same positions differ "
+                  "by " +
+                      format_number(moved_by) +
+                      " rad; where a piece turns by more than a right angle its energy has kinks "
+                      "(U-turn pieces, half turns) the optimizer does not handle; the restricted "
+                      "elastic spline fits these balls",
+                  0);
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // each slot from its side of the interpolation
+      const Node& nd = pb.node[i];
+      const bool has_prev = pb.closed || i > 0, has_next = pb.closed || i + 1 < n;
+      const std::size_t prev = i ? i - 1 : n - 1;
+      auto take = [&](int k, Vec2 d) {
+        if (k < 0 || pb.slot[k].fixed || keep[static_cast<std::size_t>(k)]) return;
+        Slot& sl = pb.slot[k];
+        sl.theta += std::remainder(std::atan2(d.y, d.x) - sl.theta, 2 * kPi);
+        sl.active = -1;
+      };
+      if (has_prev) take(nd.in, got[prev][1]);
+      if (has_next && nd.out != nd.in) take(nd.out, got[i][0]);
+    }
+    settle(pb, st);
+    const Outcome more = solve(pb, st, options, false);
+    if (!more.converged && !(more.stalled && more.residual <= kConditioningResidual) &&
+        !options.best_effort) {
+      throw Error(ErrorCode::kNotConverged,
+                  "the data-ball optimizer did not converge with the elastic spline (KKT "
+                  "residual " +
+                      format_number(more.residual) +
+                      ", largest at this point): where a piece turns by more than a right angle "
+                      "its energy has kinks (U-turn pieces, half turns) the optimizer does not "
+                      "handle; the restricted elastic spline fits these balls",
+                  more.worst);
+    }
+    iterations += more.iterations;
+    residual = more.residual;
+    converged = more.converged;
+    at_precision = !converged && more.stalled && more.residual <= kConditioningResidual;
+  }
   std::vector<std::size_t> active;
   for (std::size_t i = 0; i < n; ++i) {
     if (pb.node[i].r > 0.0 && pb.node[i].boundary) active.push_back(i);
