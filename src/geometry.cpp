@@ -29,17 +29,6 @@ void check_accuracy(double accuracy) {
   }
 }
 
-// A parameter inside [t_begin, t_end]; index: its position in the caller's list.
-void check_parameter(const Spline& s, double t, std::optional<std::size_t> index = {}) {
-  const double a = s.t_begin(), b = s.t_end();
-  if (!(t >= a && t <= b)) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "parameter t = " + format_number(t) + " is outside the curve's range [" +
-                    format_number(a) + ", " + format_number(b) + "]",
-                index);
-  }
-}
-
 double piece_length(const CubicBezier& b, double accuracy) {
   EnergyOptions o;
   o.accuracy = accuracy;
@@ -128,7 +117,7 @@ double length(const Spline& s, double accuracy) {
 std::vector<double> lengths_at(const Spline& s, const std::vector<double>& t, double accuracy) {
   check_not_empty(s);
   check_accuracy(accuracy);
-  for (std::size_t i = 0; i < t.size(); ++i) check_parameter(s, t[i], i);
+  for (std::size_t i = 0; i < t.size(); ++i) s.check_parameter(t[i], i);
   const std::vector<double> cum = cumulative_lengths(s, accuracy);
   std::vector<double> out;
   out.reserve(t.size());
@@ -298,8 +287,8 @@ Projection project(const Spline& s, Point q) {
 
 Spline subcurve(const Spline& s, double t0, double t1) {
   check_not_empty(s);
-  check_parameter(s, t0);
-  check_parameter(s, t1);
+  s.check_parameter(t0);
+  s.check_parameter(t1);
   if (!(t0 < t1)) {
     throw Error(ErrorCode::kInvalidArgument, "a sub-curve needs t0 < t1, got t0 = " +
                                                  format_number(t0) + ", t1 = " + format_number(t1));
@@ -317,7 +306,7 @@ Spline subcurve(const Spline& s, double t0, double t1) {
 
 std::pair<Spline, Spline> split(const Spline& s, double t) {
   check_not_empty(s);
-  check_parameter(s, t);
+  s.check_parameter(t);
   if (!(t > s.t_begin() && t < s.t_end())) {
     throw Error(
         ErrorCode::kInvalidArgument,
@@ -356,7 +345,7 @@ Spline transformed(const Spline& s, const Affine& m) {
 
 Frame frame_at(const Spline& s, double t) {
   check_not_empty(s);
-  check_parameter(s, t);
+  s.check_parameter(t);
   const std::size_t k = s.segment_index(t);
   const Segment& g = s.segments[k];
   const double u = s.local_parameter(k, t);

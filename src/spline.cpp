@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "detail/format.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline {
@@ -15,6 +16,16 @@ double Spline::t_begin() const {
 double Spline::t_end() const {
   if (segments.empty()) throw Error(ErrorCode::kInvalidArgument, "the spline has no segments");
   return segments.back().t1;
+}
+
+void Spline::check_parameter(double t, std::optional<std::size_t> index) const {
+  const double a = t_begin(), b = t_end();
+  if (!(t >= a && t <= b)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "parameter t = " + detail::format_number(t) + " is outside the curve's range [" +
+                    detail::format_number(a) + ", " + detail::format_number(b) + "]",
+                index);
+  }
 }
 
 std::size_t Spline::segment_index(double t) const {
@@ -33,11 +44,13 @@ double Spline::local_parameter(std::size_t k, double t) const {
 }
 
 Point Spline::eval(double t) const {
+  check_parameter(t);
   const std::size_t k = segment_index(t);
   return segments[k].bezier.eval(local_parameter(k, t));
 }
 
 Vec2 Spline::derivative(double t, int order) const {
+  check_parameter(t);
   const std::size_t k = segment_index(t);
   const Segment& s = segments[k];
   const double u = local_parameter(k, t);
@@ -56,6 +69,7 @@ Vec2 Spline::derivative(double t, int order) const {
 }
 
 double Spline::curvature(double t) const {
+  check_parameter(t);
   const std::size_t k = segment_index(t);
   return segments[k].bezier.curvature(local_parameter(k, t));
 }

@@ -78,6 +78,26 @@ TEST(Spline, CurvatureIsParameterizationIndependent) {
   }
 }
 
+// One policy for every evaluation: outside [t_begin, t_end], or NaN, is an error naming t and
+// the range; the range's own ends are inside.
+TEST(Spline, ParametersOutsideTheRangeAreErrors) {
+  const Spline s = two_pieces();
+  for (double t : {-1e-12, 3.0 + 1e-12, -5.0, 9.0, std::nan(""), HUGE_VAL}) {
+    EXPECT_THROW(s.eval(t), Error) << t;
+    EXPECT_THROW(s.derivative(t), Error) << t;
+    EXPECT_THROW(s.curvature(t), Error) << t;
+  }
+  try {
+    s.eval(3.5);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_STREQ(e.what(), "parameter t = 3.5 is outside the curve's range [0, 3]");
+  }
+  EXPECT_NO_THROW(s.eval(0.0));
+  EXPECT_NO_THROW(s.curvature(3.0));
+}
+
 TEST(Spline, SampleIsEquallySpacedInTheParameter) {
   const Spline s = two_pieces();
   const auto pts = s.sample(7);
