@@ -12,6 +12,7 @@
 
 #include "fairspline/error.hpp"
 #include "fairspline/registry.hpp"
+#include "test_util.hpp"
 
 namespace fairspline {
 namespace {
@@ -61,17 +62,6 @@ double chord_sum(const Spline& s, int n) {
     }
   }
   return total;
-}
-
-double distance_to_polyline(Point q, const std::vector<Point>& line) {
-  double best = HUGE_VAL;
-  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-    const Vec2 ab = line[i + 1] - line[i];
-    const double l2 = norm2(ab);
-    const double u = l2 > 0 ? std::clamp(dot(q - line[i], ab) / l2, 0.0, 1.0) : 0.0;
-    best = std::min(best, distance(q, line[i] + u * ab));
-  }
-  return best;
 }
 
 TEST(Geometry, LengthOfAStraightLineIsExact) {
@@ -146,7 +136,8 @@ TEST(Geometry, FlattenHonoursItsToleranceBothWays) {
       double worst = 0.0;
       for (const Segment& g : s.segments) {
         for (int k = 0; k <= 200; ++k) {
-          worst = std::max(worst, distance_to_polyline(g.bezier.eval(k / 200.0), line.points));
+          worst =
+              std::max(worst, testing::distance_to_polyline(g.bezier.eval(k / 200.0), line.points));
         }
       }
       EXPECT_LE(worst, tol);

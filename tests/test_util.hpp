@@ -1,6 +1,7 @@
 // Small helpers shared by the test files.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -33,6 +34,18 @@ inline std::vector<Point> random_walk(std::size_t n, std::uint64_t seed,
     p += step(rng) * from_angle(heading);
   }
   return pts;
+}
+
+/// Distance from q to a polyline (its segments): the reference of the flattening tests.
+inline double distance_to_polyline(Point q, const std::vector<Point>& line) {
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    const Vec2 ab = line[i + 1] - line[i];
+    const double l2 = norm2(ab);
+    const double u = l2 > 0 ? std::clamp(dot(q - line[i], ab) / l2, 0.0, 1.0) : 0.0;
+    best = std::min(best, distance(q, line[i] + u * ab));
+  }
+  return best;
 }
 
 /// n points on an ellipse (closed polygon without the repeated first point).

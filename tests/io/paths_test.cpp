@@ -128,17 +128,6 @@ TEST(Paths, SvgPathDataWritesTheShortestDigitsOfAwkwardNumbers) {
   testing::expect_error(ErrorCode::kInvalidArgument, [] { (void)svg_path_data(Spline{}); });
 }
 
-double distance_to_polyline(Point q, const std::vector<Point>& line) {
-  double best = HUGE_VAL;
-  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-    const Vec2 ab = line[i + 1] - line[i];
-    const double l2 = norm2(ab);
-    const double u = l2 > 0 ? std::clamp(dot(q - line[i], ab) / l2, 0.0, 1.0) : 0.0;
-    best = std::min(best, distance(q, line[i] + u * ab));
-  }
-  return best;
-}
-
 std::vector<Point> coordinates(const json& feature) {
   std::vector<Point> out;
   for (const json& c : feature.at("geometry").at("coordinates")) {
@@ -180,7 +169,7 @@ TEST(Paths, GeoJsonDefaultToleranceIsATenThousandthOfTheDiagonal) {
       }
     }
     for (const Point& p : r.spline.sample(2000)) {
-      EXPECT_LE(distance_to_polyline(p, line), slack);
+      EXPECT_LE(testing::distance_to_polyline(p, line), slack);
     }
   }
 }
