@@ -980,6 +980,33 @@ template <typename T, typename Get>
 void add_geometry(py::class_<T>& cls, Get spline_of) {
   const double acc = fairspline::kDefaultLengthAccuracy;
   cls.def(
+         "evaluate",
+         [spline_of](const T& self, py::handle t) {
+           return evaluate(spline_of(self), t, Quantity::kPoint);
+         },
+         py::arg("t"), keep(eval_doc(doc::spline_eval, "the result has shape S + (2,)")))
+      .def(
+          "__call__",
+          [spline_of](const T& self, py::handle t) {
+            return evaluate(spline_of(self), t, Quantity::kPoint);
+          },
+          py::arg("t"), "c(t) is c.evaluate(t).")
+      .def(
+          "derivative",
+          [spline_of](const T& self, py::handle t, int order) {
+            return evaluate(spline_of(self), t, Quantity::kDerivative, order);
+          },
+          py::arg("t"), py::arg("order") = 1,
+          keep(eval_doc(doc::spline_derivative, "the result has shape S + (2,)")))
+      .def(
+          "curvature",
+          [spline_of](const T& self, py::handle t) {
+            return evaluate(spline_of(self), t, Quantity::kCurvature);
+          },
+          py::arg("t"),
+          keep(eval_doc(doc::spline_curvature, "the result has shape S (a float for a number t)") +
+               "\n" + doc::bezier_curvature));
+  cls.def(
          "length",
          [spline_of](const T& self, double accuracy) {
            py::gil_scoped_release release;
@@ -1312,26 +1339,6 @@ PYBIND11_MODULE(_core, m) {
           "t_range", [](const Spline& s) { return py::make_tuple(s.t_begin(), s.t_end()); },
           "(t0, t1): the parameter range")
       .def(
-          "evaluate",
-          [](const Spline& s, py::handle t) { return evaluate(s, t, Quantity::kPoint); },
-          py::arg("t"), keep(eval_doc(doc::spline_eval, "the result has shape S + (2,)")))
-      .def(
-          "derivative",
-          [](const Spline& s, py::handle t, int order) {
-            return evaluate(s, t, Quantity::kDerivative, order);
-          },
-          py::arg("t"), py::arg("order") = 1,
-          keep(eval_doc(doc::spline_derivative, "the result has shape S + (2,)")))
-      .def(
-          "curvature",
-          [](const Spline& s, py::handle t) { return evaluate(s, t, Quantity::kCurvature); },
-          py::arg("t"),
-          keep(eval_doc(doc::spline_curvature, "the result has shape S (a float for a number t)")))
-      .def(
-          "__call__",
-          [](const Spline& s, py::handle t) { return evaluate(s, t, Quantity::kPoint); },
-          py::arg("t"), "path(t) is path.evaluate(t).")
-      .def(
           "__eq__",
           [](const Spline& a, py::object other) -> py::object {
             if (!py::isinstance<Spline>(other))
@@ -1413,25 +1420,6 @@ PYBIND11_MODULE(_core, m) {
           "method_report", [](const FitResult& r) { return method_report_to_python(r); },
           "the method-specific report (dict), as in the JSON output")
       .def(
-          "evaluate",
-          [](const FitResult& r, py::handle t) { return evaluate(r.spline, t, Quantity::kPoint); },
-          py::arg("t"), keep(eval_doc(doc::spline_eval, "the result has shape S + (2,)")))
-      .def(
-          "derivative",
-          [](const FitResult& r, py::handle t, int order) {
-            return evaluate(r.spline, t, Quantity::kDerivative, order);
-          },
-          py::arg("t"), py::arg("order") = 1,
-          keep(eval_doc(doc::spline_derivative, "the result has shape S + (2,)")))
-      .def(
-          "curvature",
-          [](const FitResult& r, py::handle t) {
-            return evaluate(r.spline, t, Quantity::kCurvature);
-          },
-          py::arg("t"),
-          keep(eval_doc(doc::spline_curvature, "the result has shape S (a float for a number t)") +
-               "\n" + doc::bezier_curvature))
-      .def(
           "sample",
           [](const FitResult& r, std::size_t count) {
             std::vector<Point> pts;
@@ -1462,10 +1450,6 @@ PYBIND11_MODULE(_core, m) {
             return fairspline::io::write_svg(r, fairspline::io::svg_options_from_json(o));
           },
           keep(to_svg_doc()))
-      .def(
-          "__call__",
-          [](const FitResult& r, py::handle t) { return evaluate(r.spline, t, Quantity::kPoint); },
-          py::arg("t"), "curve(t) is curve.evaluate(t).")
       .def(
           "__eq__",
           [](const FitResult& a, py::object other) -> py::object {

@@ -1,13 +1,18 @@
 """Docstrings come from the C++ headers' doc comments (one source, extracted at build time)."""
 
+import importlib.util
 import re
-import sys
 
 import fairspline
 from conftest import INCLUDE_DIR, SOURCE_DIR
 
-sys.path.insert(0, str(SOURCE_DIR / "python"))
-import gen_docstrings  # noqa: E402  (the generator's own translation of C++ names)
+# The generator's own translation of C++ names, loaded from its file: putting python/ on
+# sys.path would let processes spawned later (Dask's workers) import the source package, which
+# has no compiled _core.
+_spec = importlib.util.spec_from_file_location("gen_docstrings",
+                                               SOURCE_DIR / "python" / "gen_docstrings.py")
+gen_docstrings = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(gen_docstrings)
 
 CONSTANTS = gen_docstrings.header_constants(str(SOURCE_DIR / "include"))
 
