@@ -1,7 +1,8 @@
 // Import of points: CSV (x,y per line, optional header, # comments), the JSON request of
 // `fairspline fit` ({points, closed, kinds, tangents, radii, alpha, method, options} or a bare
-// array), or its JSON result (the editor's Export JSON), whose "request" is what was given.
-// Throws Error with a sentence that names the line or the field.
+// array), its JSON result (the editor's Export JSON), whose "request" is what was given, and
+// Curve Ensemble's text file (docs/curve-ensemble.md). Also the editor's project file
+// (parseProject). Throws Error with a sentence that names the line or the field.
 
 const KINDS = ['smooth', 'clamped', 'corner'];
 
@@ -89,18 +90,154 @@ function fromCsv(text) {
   return { points };
 }
 
-/** {points, closed?, kinds?, tangents?, radii?, alpha?, method?, options?} from CSV or JSON text. */
+// ---------- Curve Ensemble text files ----------
+
+export const CE_HEADER = '#Curve Ensemble Text File';
+const CE = { REGULAR: 0, CLAMPED: 1, FREE_CLAMPED: 3, CLAMPED_FREE: 5, FREE: 7 };
+
+/** The unit vector at `deg` degrees from +x towards +y. */
+const direction = (deg) => [Math.cos((deg * Math.PI) / 180), Math.sin((deg * Math.PI) / 180)];
+
+/**
+ * A Curve Ensemble text file (its header line, then x y DIR CORNER STATE ENERGY per node, missing
+ * columns 0; docs/curve-ensemble.md) as the editor's curve. Kept: the positions, closedness (open
+ * exactly when the first state is 7 or 3 and the last 7 or 5, as Curve Ensemble decides), data
+ * balls (state < 0: radius −state; > 100: state − 100), and the node states as far as the
+ * editor's kinds go: 1 clamped (its outgoing direction DIR), 3 at the start of an open curve
+ * clamped (DIR), 5 at its end clamped (DIR − CORNER), 7 at an open end smooth (a free end);
+ * inside the curve 7, 3 and 5 split it (corner; a clamped side is lost). Lost: a regular node's
+ * CORNER, a clamped node's separate incoming direction, and the energy column. A clamped
+ * direction becomes an arrow a third of the chord to the neighbouring node long (the Bézier arm
+ * of an even curve), since the file gives a direction only. The method is Curve Ensemble's
+ * default, restricted-elastic.
+ */
+function fromCurveEnsemble(text) {
+  const rows = [];
+  let threeColumns = true;
+  text.split(/\r?\n/).forEach((raw, n) => {
+    if (raw.startsWith('#') || raw.trim() === '') return;
+    const cells = raw.trim().split(/\s+/);
+    const nums = cells.slice(0, 6).map(Number);
+    if (!nums.slice(0, 2).every(Number.isFinite) || cells.length < 2) {
+      throw new Error(`line ${n + 1}: expected "x y [direction corner state energy]", got "${raw.trim().slice(0, 40)}"`);
+    }
+    if (cells.length !== 3) threeColumns = false;
+    while (nums.length < 6) nums.push(0);
+    rows.push(nums);
+  });
+  const n = rows.length;
+  if (!n) return { points: [] };
+  const points = rows.map((r) => [r[0], r[1]]);
+  // Curve Ensemble's data-ball file: x y r on every line, loaded closed.
+  if (threeColumns) return { points, closed: true, radii: rows.map((r) => Math.max(0, r[2])), method: 'restricted-elastic', alpha: 0.5 };
+  const state = (r) => r[4];
+  const closed = !([CE.FREE, CE.FREE_CLAMPED].includes(state(rows[0])) && [CE.FREE, CE.CLAMPED_FREE].includes(state(rows[n - 1])));
+  const kinds = Array(n).fill('smooth');
+  const arrows = Array(n).fill(null);
+  const radii = rows.map((r) => (state(r) < 0 ? -state(r) : state(r) > 100 ? state(r) - 100 : 0));
+  const armLength = (i) => {
+    const j = i + 1 < n ? i + 1 : (closed ? 0 : i - 1);
+    return j >= 0 && j !== i ? Math.hypot(points[j][0] - points[i][0], points[j][1] - points[i][1]) / 3 : 1;
+  };
+  const clamp = (i, deg) => {
+    kinds[i] = 'clamped';
+    arrows[i] = direction(deg).map((v) => v * armLength(i));
+  };
+  rows.forEach((r, i) => {
+    const s = state(r), end = !closed && (i === 0 || i === n - 1);
+    if (s === CE.CLAMPED) clamp(i, r[2]);
+    else if (!closed && i === 0 && s === CE.FREE_CLAMPED) clamp(i, r[2]);
+    else if (!closed && i === n - 1 && s === CE.CLAMPED_FREE) clamp(i, r[2] - r[3]);
+    else if (!end && [CE.FREE, CE.FREE_CLAMPED, CE.CLAMPED_FREE].includes(s)) kinds[i] = 'corner';
+  });
+  const out = { points, closed, kinds, arrows, radii, method: 'restricted-elastic', alpha: 0.5 };
+  if (!radii.some((r) => r > 0)) delete out.radii;
+  return out;
+}
+
+/**
+ * {points, closed?, kinds?, tangents? (derivatives), arrows? (Bézier arms, Curve Ensemble),
+ * radii?, alpha?, method?, options?} from CSV, JSON or Curve Ensemble text.
+ */
 export function parseImport(text) {
   const trimmed = text.trim();
   if (!trimmed) throw new Error('nothing to import');
-  const out = trimmed.startsWith('{') || trimmed.startsWith('[') ? fromJson(trimmed) : fromCsv(trimmed);
+  const out = trimmed.startsWith(CE_HEADER) ? fromCurveEnsemble(trimmed)
+    : trimmed.startsWith('{') || trimmed.startsWith('[') ? fromJson(trimmed) : fromCsv(trimmed);
   if (!out.points.length) throw new Error('no points found');
   // A tangent makes a point clamped unless its kind says otherwise.
   if (out.tangents && !out.kinds) out.kinds = out.tangents.map((t) => (t ? 'clamped' : 'smooth'));
   if (out.kinds) {
     out.kinds.forEach((k, i) => {
-      if (k === 'clamped' && !out.tangents?.[i]) throw new Error(`point ${i} is clamped but has no tangent`);
+      if (k === 'clamped' && !out.tangents?.[i] && !out.arrows?.[i]) throw new Error(`point ${i} is clamped but has no tangent`);
     });
   }
   return out;
+}
+
+// ---------- the editor's project file ----------
+
+export const PROJECT_FORMAT = 'fairspline-project';
+export const PROJECT_VERSION = 1;
+
+/** Whether the text is a project file (of any version): a JSON object with its "format". */
+export function isProject(text) {
+  const t = text.trim();
+  if (!t.startsWith('{') || !t.includes(PROJECT_FORMAT)) return false;
+  try { return JSON.parse(t)?.format === PROJECT_FORMAT; } catch { return false; }
+}
+
+function projectCurve(c, at) {
+  const where = `curves[${at}]`;
+  if (!c || typeof c !== 'object' || Array.isArray(c)) throw new Error(`${where} is not an object`);
+  const points = toPoints(c.points);
+  const n = points.length;
+  const list = (key, ok, what) => {
+    if (!Array.isArray(c[key]) || c[key].length !== n) throw new Error(`${where}.${key} must have one entry per point (${n})`);
+    c[key].forEach((v, i) => { if (!ok(v)) throw new Error(`${where}.${key}[${i}] is not ${what}`); });
+    return c[key];
+  };
+  const kinds = list('kinds', (k) => KINDS.includes(k), 'smooth, clamped or corner');
+  const arrows = list('arrows', (a) => a === null || finitePair(a), '[dx, dy] or null');
+  const radii = list('radii', (r) => typeof r === 'number' && Number.isFinite(r) && r >= 0, 'a radius (a number >= 0)');
+  kinds.forEach((k, i) => { if (k === 'clamped' && !arrows[i]) throw new Error(`${where}: point ${i} is clamped but has no arrow`); });
+  if (typeof c.alpha !== 'number' || !Number.isFinite(c.alpha)) throw new Error(`${where}.alpha must be a number`);
+  if (typeof c.method !== 'string') throw new Error(`${where}.method must be a method name`);
+  if (!c.options || typeof c.options !== 'object' || Array.isArray(c.options)) throw new Error(`${where}.options must be an object`);
+  return {
+    name: typeof c.name === 'string' ? c.name : `curve ${at + 1}`,
+    visible: c.visible !== false,
+    color: typeof c.color === 'string' && /^#[0-9a-f]{6}$/i.test(c.color) ? c.color : null,
+    points,
+    closed: !!c.closed,
+    alpha: c.alpha,
+    method: c.method,
+    options: c.options,
+    kinds: [...kinds],
+    tangents: arrows.map((a) => (a ? [...a] : null)), // the editor's name for the arrows
+    radii: [...radii],
+  };
+}
+
+/**
+ * The document of a project file (docs/editor.md, "Project files"): {curves, selected, view?,
+ * display?}. Refuses a newer version than this editor writes.
+ */
+export function parseProject(text) {
+  let data;
+  try { data = JSON.parse(text); } catch (e) { throw new Error(`invalid JSON: ${e.message}`); }
+  if (data?.format !== PROJECT_FORMAT) throw new Error(`not a project file ("format" is not "${PROJECT_FORMAT}")`);
+  if (!Number.isInteger(data.version) || data.version < 1) throw new Error('"version" must be a positive integer');
+  if (data.version > PROJECT_VERSION) throw new Error(`project version ${data.version} is newer than this editor reads (${PROJECT_VERSION})`);
+  if (!Array.isArray(data.curves) || !data.curves.length) throw new Error('"curves" must list at least one curve');
+  const curves = data.curves.map(projectCurve);
+  const selected = Number.isInteger(data.selected) && data.selected >= 0 && data.selected < curves.length ? data.selected : 0;
+  const v = data.view;
+  const view = v && [v.x, v.y, v.w].every((x) => typeof x === 'number' && Number.isFinite(x)) && v.w > 0 ? { x: v.x, y: v.y, w: v.w } : null;
+  const d = data.display && typeof data.display === 'object' ? data.display : null;
+  const display = d ? {
+    ensemble: Array.isArray(d.ensemble) ? d.ensemble.filter((m) => typeof m === 'string') : [],
+    comb: !!d.comb, polygon: !!d.polygon, plot: d.plot !== false,
+  } : null;
+  return { curves, selected, view, display };
 }
