@@ -1,10 +1,11 @@
-// fairspline editor: points on an SVG canvas, live fits through POST /api/fit, an ensemble of
-// methods side by side, node kinds, a curvature comb and plot, zoom and pan, imports and
-// exports, and the whole state kept in the URL hash.
+// fairspline editor: a document of curves, each with its points on an SVG canvas, live fits
+// through POST /api/fit, an ensemble of methods side by side, node kinds, a curvature comb and
+// plot, zoom and pan, project files, imports and exports, and the whole state kept in the URL
+// hash. The selected curve's data live in `state`, so all single-curve editing works on it.
 // World coordinates have the y axis up; the initial view is the 1000×700 frame.
 
 import { nearestSegment, pathData, sampleCurve } from './bezier.js';
-import { parseImport } from './parse.js';
+import { PROJECT_FORMAT, PROJECT_VERSION, isProject, parseImport, parseProject } from './parse.js';
 import { renderCurvaturePlot } from './plot.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
@@ -21,6 +22,10 @@ const KINDS = ['smooth', 'clamped', 'corner'];
 const PALETTE = ['#d62728', '#2ca02c', '#9467bd', '#1f77b4', '#17becf', '#8c564b', '#e377c2',
   '#bcbd22', '#7f7f7f', '#393b79', '#637939', '#a55194'];
 const COMB_COLOR = '#e07b39';
+// The document's curves, each in its own colour: dark and saturated, away from the comb's
+// orange, so that a dimmed thin curve stays readable next to the selected one (drawn in --fg).
+const CURVE_COLORS = ['#2563eb', '#16a34a', '#9333ea', '#db2777', '#0891b2', '#65a30d', '#b91c1c',
+  '#4f46e5', '#0f766e', '#a21caf', '#475569', '#854d0e'];
 
 const $ = (id) => document.getElementById(id);
 const el = {
@@ -37,6 +42,9 @@ const el = {
   alpha: $('alpha'), alphaNumber: $('alpha-number'), kindBox: $('kind'), kindLabel: $('kind-label'),
   radius: $('radius'),
   zoomLabel: $('zoom-label'),
+  curves: $('curves'), curveName: $('curve-name'), layerCurves: $('layer-curves'),
+  exportScope: $('export-scope'), exportPoints: $('export-points'), pngScale: $('png-scale'),
+  projectText: $('export-project-text'),
 };
 
 const state = {
@@ -65,6 +73,14 @@ let lastDrawMs = null;         // time render() took after the last fit
 let editSince = null;          // performance.now() of the oldest edit not yet sent to the server
 let lastLatencyMs = null;      // from that edit to the fit drawn on screen (debounce included)
 const ensembleFits = new Map(); // name → {fit} or {error}
+let mainFitKey = null;         // the request body (JSON text) mainFit answers
+
+// ---------- the document: several curves, one of them selected ----------
+// A record is {id, name, visible, color} plus the curve's data (CURVE fields of copyCurve). The
+// selected curve's data are in `state` (its record's copy is refreshed by storeSelected()).
+const doc = { curves: [], selected: 0 };
+let nextCurveId = 1;
+const otherFits = new Map(); // curve id → {key, fit} or {key, error}: key is the request body
 let importError = null;        // message of the last failed import, shown until the next edit
 
 // ---------- small helpers ----------
@@ -89,15 +105,26 @@ const undoStack = [];
 const redoStack = [];
 let historyKey = null; // the control whose edits the last undo step collects (see pushHistory)
 
+/** A deep copy of a curve's data (of `state` or of a record). */
+const copyCurve = (c) => ({
+  points: c.points.map(([x, y]) => [x, y]),
+  kinds: [...c.kinds],
+  tangents: c.tangents.map((t) => (t ? [...t] : null)),
+  radii: [...c.radii],
+  closed: c.closed,
+  alpha: c.alpha,
+  method: c.method,
+  options: structuredClone(c.options),
+});
+const curveMeta = ({ id, name, visible, color }) => ({ id, name, visible, color });
+
+/** The selected curve's data (as before documents existed) and the document around it. */
 const snapshot = () => ({
-  points: state.points.map(([x, y]) => [x, y]),
-  kinds: [...state.kinds],
-  tangents: state.tangents.map((t) => (t ? [...t] : null)),
-  radii: [...state.radii],
-  closed: state.closed,
-  alpha: state.alpha,
-  method: state.method,
-  options: structuredClone(state.options),
+  ...copyCurve(state),
+  doc: {
+    selected: doc.selected,
+    curves: doc.curves.map((c, i) => (i === doc.selected ? curveMeta(c) : { ...curveMeta(c), ...copyCurve(c) })),
+  },
 });
 
 /**
@@ -120,6 +147,10 @@ function endHistoryGroup() {
 }
 
 function restore(snap) {
+  const switched = snap.doc.curves[snap.doc.selected].id !== selectedCurve().id;
+  if (switched) cacheSelectedFit();
+  doc.curves = snap.doc.curves;
+  doc.selected = snap.doc.selected;
   const settings = snap.method !== state.method || JSON.stringify(snap.options) !== JSON.stringify(state.options);
   state.points = snap.points;
   state.kinds = snap.kinds;
@@ -132,6 +163,8 @@ function restore(snap) {
   el.closed.checked = state.closed;
   syncAlphaControl();
   if (settings) { el.method.value = state.method; buildOptionsForm(); }
+  if (switched) adoptCachedFit();
+  renderCurvesPanel();
   state.selected = -1;
   drag = null;
   importError = null;
@@ -161,6 +194,210 @@ function updateHistoryButtons() {
 /** After points move in the list, the old error index no longer names the right point. */
 function forgetErrorIndex() {
   if (mainError?.index != null) mainError = { ...mainError, index: null };
+}
+
+// ---------- the document's curves ----------
+
+const selectedCurve = () => doc.curves[doc.selected];
+
+/** A colour no curve of the document has yet (they repeat after CURVE_COLORS.length). */
+function freeColor() {
+  const used = new Set(doc.curves.map((c) => c.color));
+  return CURVE_COLORS.find((c) => !used.has(c)) ?? CURVE_COLORS[doc.curves.length % CURVE_COLORS.length];
+}
+
+/** A new record: no points, the given settings (the selected curve's, so that a new curve is
+ * fitted as the one beside it), a name not used yet. */
+function newRecord(from = state, name = null) {
+  const names = new Set(doc.curves.map((c) => c.name));
+  let k = doc.curves.length + 1;
+  while (!name && names.has(`curve ${k}`)) k += 1;
+  return {
+    id: nextCurveId++, name: name ?? `curve ${k}`, visible: true, color: freeColor(),
+    points: [], kinds: [], tangents: [], radii: [], closed: from.closed, alpha: from.alpha,
+    method: from.method, options: structuredClone(from.options ?? {}),
+  };
+}
+
+/** A document of one empty curve (the editor's start). */
+function resetDocument() {
+  doc.curves = [];
+  doc.selected = 0;
+  doc.curves.push({ ...newRecord(state, 'curve 1'), ...copyCurve(state) });
+  otherFits.clear();
+}
+
+/** Copies the selected curve's data from `state` into its record. */
+function storeSelected() {
+  Object.assign(selectedCurve(), copyCurve(state));
+}
+
+/** Keeps the selected curve's fit, so that selecting it again shows it at once. */
+function cacheSelectedFit() {
+  const c = selectedCurve();
+  if (c && mainFit && !mainStale && mainFitKey) otherFits.set(c.id, { key: mainFitKey, fit: mainFit });
+}
+
+/** The fit of the (newly) selected curve's current data, if one is known; else none until its
+ * fit arrives (the previous curve's fit must not be read for this one's arrows). */
+function adoptCachedFit() {
+  const cached = otherFits.get(selectedCurve().id);
+  const key = JSON.stringify(requestBody(state.method, state.options));
+  mainFit = cached?.fit && cached.key === key ? cached.fit : null;
+  mainFitKey = mainFit ? key : null;
+  mainStale = false;
+  mainError = null;
+  ensembleFits.clear();
+}
+
+/** Puts the selected record's data into `state` and the panel's controls. */
+function loadSelected() {
+  Object.assign(state, copyCurve(selectedCurve()));
+  if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
+  state.selected = -1;
+  drag = null;
+  forgetErrorIndex();
+  adoptCachedFit();
+  el.closed.checked = state.closed;
+  syncAlphaControl();
+  el.method.value = state.method;
+  buildOptionsForm();
+  renderCurvesPanel();
+}
+
+/** Selects curve j (one undo step: undo goes back to the curve edited before). */
+function selectCurve(j) {
+  if (j === doc.selected || !doc.curves[j]) return;
+  pushHistory();
+  storeSelected();
+  cacheSelectedFit();
+  doc.selected = j;
+  loadSelected();
+  render();
+  changed();
+}
+
+/** Inserts a record after the selected curve and selects it (one undo step). */
+function addCurve(record) {
+  pushHistory();
+  storeSelected();
+  cacheSelectedFit();
+  doc.curves.splice(doc.selected + 1, 0, record);
+  doc.selected += 1;
+  loadSelected();
+  render();
+  changed();
+}
+
+function duplicateCurve() {
+  storeSelected();
+  const c = selectedCurve();
+  addCurve({ ...newRecord(state, `${c.name} copy`), ...copyCurve(c) });
+}
+
+/** Deletes the selected curve; the last one is replaced by an empty curve. */
+function deleteCurve() {
+  pushHistory();
+  otherFits.delete(selectedCurve().id);
+  doc.curves.splice(doc.selected, 1);
+  if (!doc.curves.length) doc.curves.push(newRecord(state, 'curve 1'));
+  doc.selected = Math.min(doc.selected, doc.curves.length - 1);
+  loadSelected();
+  render();
+  changed();
+}
+
+/** Moves the selected curve up (−1) or down (+1) the list: the drawing order too. */
+function moveCurve(step) {
+  const j = doc.selected + step;
+  if (j < 0 || j >= doc.curves.length) return;
+  pushHistory();
+  const [c] = doc.curves.splice(doc.selected, 1);
+  doc.curves.splice(j, 0, c);
+  doc.selected = j;
+  renderCurvesPanel();
+  render();
+  changed();
+}
+
+function setCurveVisible(i, visible) {
+  if (doc.curves[i].visible === visible) return;
+  pushHistory();
+  doc.curves[i].visible = visible;
+  renderCurvesPanel();
+  render();
+  changed();
+}
+
+function renameCurve(name) {
+  if (selectedCurve().name === name) return;
+  pushHistory('curve-name');
+  selectedCurve().name = name;
+  renderCurvesPanel();
+  saveHash();
+}
+
+/** The curves panel: one row per curve (visibility box, colour, name and method; the selected
+ * row highlighted; a failed fit marked with its message), and the selected curve's name. */
+function renderCurvesPanel() {
+  el.curves.replaceChildren();
+  doc.curves.forEach((c, i) => {
+    const sel = i === doc.selected;
+    const li = document.createElement('li');
+    li.dataset.testid = `curves-row-${i}`;
+    li.classList.toggle('selected', sel);
+    li.classList.toggle('hidden-curve', !c.visible);
+    const box = document.createElement('input');
+    box.type = 'checkbox';
+    box.checked = c.visible;
+    box.title = 'show / hide';
+    box.dataset.testid = `curves-visible-${i}`;
+    box.addEventListener('change', () => setCurveVisible(i, box.checked));
+    const sw = document.createElement('span');
+    sw.className = 'swatch';
+    sw.style.background = c.color;
+    const name = document.createElement('button');
+    name.type = 'button';
+    name.className = 'curve-name';
+    name.dataset.testid = `curves-select-${i}`;
+    const method = sel ? state.method : c.method;
+    const n = sel ? state.points.length : c.points.length;
+    name.textContent = c.name;
+    name.title = `${c.name}: ${method}, ${n} points`;
+    name.addEventListener('click', () => selectCurve(i));
+    const info = document.createElement('span');
+    info.className = 'curve-method';
+    info.textContent = method ?? '';
+    li.append(box, sw, name, info);
+    const err = !sel && c.visible ? otherFits.get(c.id)?.error : null;
+    if (err) {
+      const mark = document.createElement('span');
+      mark.className = 'curve-error';
+      mark.textContent = '!';
+      mark.title = `${err.code}: ${err.message}`;
+      mark.dataset.testid = `curves-error-${i}`;
+      li.append(mark);
+    }
+    el.curves.append(li);
+  });
+  if (document.activeElement !== el.curveName) el.curveName.value = selectedCurve()?.name ?? '';
+  $('curve-up').disabled = doc.selected === 0;
+  $('curve-down').disabled = doc.selected === doc.curves.length - 1;
+}
+
+/** The visible curves other than the selected one: thinner, dimmed, each in its colour; a
+ * press on one selects it. */
+function renderOtherCurves() {
+  el.layerCurves.replaceChildren();
+  doc.curves.forEach((c, i) => {
+    const fit = otherFits.get(c.id)?.fit;
+    if (i === doc.selected || !c.visible || !fit) return;
+    el.layerCurves.append(svg('path', {
+      d: pathData(fit.segments), stroke: c.color, 'data-testid': `doc-curve-${i}`, 'data-curve': i,
+    }));
+  });
+  // The selected curve is always drawn (it is being edited); hidden, it is drawn faintly.
+  el.canvas.classList.toggle('selected-hidden', !selectedCurve()?.visible);
 }
 
 // ---------- point list edits (points, kinds and tangents stay parallel) ----------
@@ -193,16 +430,16 @@ function removePoint(i) {
  * goes, so the tangent sent is 3·arrow/Δt: C1 methods (li-*) take its length as the speed,
  * G1 methods only its direction.
  */
-function knotSpan(i) {
-  const n = state.points.length;
-  const j = i + 1 < n ? i + 1 : (state.closed ? 0 : i - 1);
+function knotSpan(i, c = state) {
+  const n = c.points.length;
+  const j = i + 1 < n ? i + 1 : (c.closed ? 0 : i - 1);
   if (j < 0 || j === i) return 1;
-  const d = Math.hypot(state.points[j][0] - state.points[i][0], state.points[j][1] - state.points[i][1]);
-  const span = state.alpha === 0 ? 1 : d ** state.alpha;
+  const d = Math.hypot(c.points[j][0] - c.points[i][0], c.points[j][1] - c.points[i][1]);
+  const span = c.alpha === 0 ? 1 : d ** c.alpha;
   return span > 0 && Number.isFinite(span) ? span : 1;
 }
 
-const arrowToTangent = (a, i) => (a ? [(3 * a[0]) / knotSpan(i), (3 * a[1]) / knotSpan(i)] : null);
+const arrowToTangent = (a, i, c = state) => (a ? [(3 * a[0]) / knotSpan(i, c), (3 * a[1]) / knotSpan(i, c)] : null);
 const tangentToArrow = (t, i) => (t ? [(t[0] * knotSpan(i)) / 3, (t[1] * knotSpan(i)) / 3] : null);
 
 /**
@@ -251,24 +488,43 @@ function setKind(i, kind) {
 
 // ---------- URL hash ----------
 
+/** A curve's data in the hash's short form (numbers to 10 digits). */
+function hashCurve(c) {
+  const data = {
+    p: c.points.map(([x, y]) => [compact(x), compact(y)]),
+    c: c.closed ? 1 : 0,
+    a: c.alpha,
+    m: c.method,
+    o: c.options,
+  };
+  if (c.kinds.some((k) => k !== 'smooth')) {
+    data.n = c.kinds.map((k) => KINDS.indexOf(k));
+    data.t = c.tangents.map((t) => (t ? t.map(compact) : 0));
+  }
+  if (c.radii.some((r) => r > 0)) data.r = c.radii.map(compact);
+  return data;
+}
+
+/**
+ * The hash: the selected curve's data at the top level (the one-curve form, which older links
+ * hold), the view's settings, and with more than one curve "D", every curve's name (l), colour
+ * (s), hidden flag (h) and, but for the selected one, data; "S" the selected index.
+ */
 function saveHash() {
   const data = {
-    p: state.points.map(([x, y]) => [compact(x), compact(y)]),
-    c: state.closed ? 1 : 0,
-    a: state.alpha,
-    m: state.method,
-    o: state.options,
+    ...hashCurve(state),
     e: [...state.ensemble],
     k: state.comb ? 1 : 0,
     g: state.polygon ? 1 : 0,
     q: state.plot ? 1 : 0,
     v: [compact(state.view.x), compact(state.view.y), compact(state.view.w)],
   };
-  if (state.kinds.some((k) => k !== 'smooth')) {
-    data.n = state.kinds.map((k) => KINDS.indexOf(k));
-    data.t = state.tangents.map((t) => (t ? t.map(compact) : 0));
+  if (doc.curves.length > 1) {
+    data.D = doc.curves.map((c, i) => ({
+      l: c.name, s: c.color, ...(c.visible ? {} : { h: 1 }), ...(i === doc.selected ? {} : hashCurve(c)),
+    }));
+    data.S = doc.selected;
   }
-  if (state.radii.some((r) => r > 0)) data.r = state.radii.map(compact);
   history.replaceState(null, '', `#${encodeURIComponent(JSON.stringify(data))}`);
 }
 
@@ -279,35 +535,59 @@ const freshState = () => ({
   view: { x: 0, y: 0, w: FRAME_W }, selected: -1,
 });
 
+/** A curve's data from its short form in the hash (what it leaves out as in an empty editor). */
+function curveFromHash(data) {
+  const c = { points: [], closed: false, alpha: 0.5, method: schema.default, options: {} };
+  if (Array.isArray(data.p)) {
+    c.points = data.p.filter((p) => Array.isArray(p) && p.length === 2).map(([x, y]) => [+x, +y]);
+  }
+  const n = c.points.length;
+  c.kinds = Array(n).fill('smooth');
+  c.tangents = Array(n).fill(null);
+  c.radii = Array(n).fill(0);
+  if (Array.isArray(data.r) && data.r.length === n && data.r.every((r) => Number.isFinite(r) && r >= 0)) {
+    c.radii = data.r.map(Number);
+  }
+  if (Array.isArray(data.n) && Array.isArray(data.t) && data.n.length === n && data.t.length === n) {
+    data.n.forEach((k, i) => {
+      const kind = KINDS[k] ?? 'smooth';
+      const t = data.t[i];
+      if (kind === 'clamped' && !(Array.isArray(t) && t.length === 2)) return;
+      c.kinds[i] = kind;
+      c.tangents[i] = kind === 'clamped' ? [+t[0], +t[1]] : null;
+    });
+  }
+  c.closed = !!data.c;
+  if (typeof data.a === 'number' && Number.isFinite(data.a)) c.alpha = data.a;
+  if (typeof data.m === 'string') c.method = data.m;
+  if (data.o && typeof data.o === 'object') c.options = data.o;
+  return c;
+}
+
+/** The document of the hash's "D" and "S" (the selected curve's data are the top level's). */
+function documentFromHash(data) {
+  if (!Array.isArray(data.D) || data.D.length < 2) return;
+  const selected = Number.isInteger(data.S) && data.S >= 0 && data.S < data.D.length ? data.S : 0;
+  doc.curves = [];
+  data.D.forEach((d, i) => {
+    const record = { ...newRecord(state, typeof d?.l === 'string' ? d.l : null), ...(i === selected ? copyCurve(state) : curveFromHash(d ?? {})) };
+    if (typeof d?.s === 'string' && /^#[0-9a-f]{6}$/i.test(d.s)) record.color = d.s;
+    record.visible = !d?.h;
+    doc.curves.push(record);
+  });
+  doc.selected = selected;
+}
+
 /** The state the URL hash gives (what it leaves out as in an empty editor). */
 function loadHash() {
   Object.assign(state, freshState());
+  resetDocument();
   if (location.hash.length < 2) return;
   try {
     const data = JSON.parse(decodeURIComponent(location.hash.slice(1)));
-    if (Array.isArray(data.p)) {
-      state.points = data.p.filter((p) => Array.isArray(p) && p.length === 2).map(([x, y]) => [+x, +y]);
-    }
-    const n = state.points.length;
-    state.kinds = Array(n).fill('smooth');
-    state.tangents = Array(n).fill(null);
-    state.radii = Array(n).fill(0);
-    if (Array.isArray(data.r) && data.r.length === n && data.r.every((r) => Number.isFinite(r) && r >= 0)) {
-      state.radii = data.r.map(Number);
-    }
-    if (Array.isArray(data.n) && Array.isArray(data.t) && data.n.length === n && data.t.length === n) {
-      data.n.forEach((k, i) => {
-        const kind = KINDS[k] ?? 'smooth';
-        const t = data.t[i];
-        if (kind === 'clamped' && !(Array.isArray(t) && t.length === 2)) return;
-        state.kinds[i] = kind;
-        state.tangents[i] = kind === 'clamped' ? [+t[0], +t[1]] : null;
-      });
-    }
-    state.closed = !!data.c;
-    if (typeof data.a === 'number' && Number.isFinite(data.a)) state.alpha = data.a;
-    if (typeof data.m === 'string') state.method = data.m;
-    if (data.o && typeof data.o === 'object') state.options = data.o;
+    Object.assign(state, curveFromHash(data));
+    resetDocument();
+    documentFromHash(data);
     if (Array.isArray(data.e)) state.ensemble = new Set(data.e);
     state.comb = !!data.k;
     state.polygon = !!data.g;
@@ -514,34 +794,58 @@ function syncAlphaControl() {
 
 // ---------- fitting ----------
 
-/** The request body of the current data for `method` (the JSON input of `fairspline fit`). */
-function requestBody(method, options) {
-  const body = { points: state.points, closed: state.closed, alpha: state.alpha, method };
-  if (state.kinds.some((k) => k !== 'smooth')) {
-    body.kinds = state.kinds;
-    body.tangents = state.tangents.map(arrowToTangent);
+/** The request body of curve c's data (the selected one's by default) for `method` (the JSON
+ * input of `fairspline fit`). */
+function requestBody(method, options, c = state) {
+  const body = { points: c.points, closed: c.closed, alpha: c.alpha, method };
+  if (c.kinds.some((k) => k !== 'smooth')) {
+    body.kinds = c.kinds;
+    body.tangents = c.tangents.map((a, i) => arrowToTangent(a, i, c));
   }
-  if (state.radii.some((r) => r > 0)) body.radii = state.radii;
+  if (c.radii.some((r) => r > 0)) body.radii = c.radii;
   if (options && Object.keys(options).length) body.options = options;
   return body;
 }
 
-async function postFit(method, options) {
+/** POST /api/fit of a request body: {fit, ms} or {error, ms}, and `key`, the body's text (what
+ * the answer is the fit of). */
+async function postBody(body) {
+  const key = JSON.stringify(body);
   const started = performance.now();
   try {
     const res = await fetch('/api/fit', {
       method: 'POST',
       headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify(requestBody(method, options)),
+      body: key,
     });
     const data = await res.json().catch(() => null);
     const timing = /dur=([0-9.]+)/.exec(res.headers.get('Server-Timing') ?? '');
     const ms = { server: timing ? Number(timing[1]) : null, roundTrip: performance.now() - started };
-    if (res.ok && data) return { fit: data, ms };
-    return { ms, error: data?.error ?? { code: `http_${res.status}`, message: `HTTP ${res.status}`, index: null } };
+    if (res.ok && data) return { fit: data, ms, key };
+    return { ms, key, error: data?.error ?? { code: `http_${res.status}`, message: `HTTP ${res.status}`, index: null } };
   } catch (e) {
-    return { error: { code: 'network', message: `cannot reach the server: ${e.message}`, index: null } };
+    return { key, error: { code: 'network', message: `cannot reach the server: ${e.message}`, index: null } };
   }
+}
+
+const postFit = (method, options) => postBody(requestBody(method, options));
+
+/**
+ * Fits the visible curves other than the selected one, each with its own method and options,
+ * through the same POST /api/fit; an answer is kept until its curve's request changes, so
+ * editing the selected curve refits only it.
+ */
+async function fitOtherCurves() {
+  const ids = new Set(doc.curves.map((c) => c.id));
+  for (const id of otherFits.keys()) if (!ids.has(id)) otherFits.delete(id);
+  const jobs = doc.curves.map(async (c, i) => {
+    if (i === doc.selected || !c.visible || !c.points.length || !c.method) return;
+    const body = requestBody(c.method, c.options, c);
+    if (otherFits.get(c.id)?.key === JSON.stringify(body)) return;
+    const r = await postBody(body);
+    otherFits.set(c.id, { key: r.key, fit: r.fit, error: r.error });
+  });
+  await Promise.all(jobs);
 }
 
 let fitQueued = false;
@@ -566,7 +870,9 @@ async function runFit() {
   fitInFlight = true;
   const since = editSince;
   editSince = null;
+  const curveId = selectedCurve().id;
   try {
+    const othersDone = fitOtherCurves();
     if (!state.points.length || !state.method) {
       mainFit = null;
       mainStale = false;
@@ -580,9 +886,12 @@ async function runFit() {
         postFit(state.method, state.options),
         ...names.map((n) => postFit(n, null)),
       ]);
+      // Another curve was selected meanwhile: these fits are not of its data.
+      if (curveId !== selectedCurve().id) { fitPending = true; return; }
       // A failed fit keeps the last good curve, dimmed, next to its error (also mid-drag).
       if (main.fit) {
         mainFit = main.fit;
+        mainFitKey = main.key;
         mainStale = false;
       } else if (mainFit && state.points.length >= 2) {
         mainStale = true;
@@ -594,6 +903,7 @@ async function runFit() {
       ensembleFits.clear();
       names.forEach((n, i) => ensembleFits.set(n, others[i]));
     }
+    await othersDone;
     const drawStart = performance.now();
     render();
     lastDrawMs = performance.now() - drawStart;
@@ -874,6 +1184,8 @@ function renderTable() {
 }
 
 function render() {
+  renderOtherCurves();
+  renderCurvesPanel();
   el.layerMain.replaceChildren();
   el.layerMain.classList.toggle('stale', mainStale);
   if (mainFit) {
@@ -1012,7 +1324,13 @@ document.addEventListener('focusin', (evt) => { if (!el.canvas.contains(evt.targ
 
 el.canvas.addEventListener('pointerdown', (evt) => {
   el.canvas.focus({ preventScroll: true });
-  const { index, handle } = evt.target.dataset ?? {};
+  const { index, handle, curve } = evt.target.dataset ?? {};
+  if (curve !== undefined && evt.button === 0 && !evt.shiftKey && !evt.altKey) {
+    // A press on another curve of the document selects it (its click adds no point).
+    evt.preventDefault();
+    selectCurve(Number(curve));
+    return;
+  }
   if (evt.button === 1 || (evt.button === 0 && index === undefined && handle === undefined)) {
     // Background (or middle button anywhere): a click adds a point, a drag pans.
     drag = { type: evt.button === 1 ? 'pan' : 'press', start: [evt.clientX, evt.clientY], view: { ...state.view }, ctm: el.canvas.getScreenCTM() };
@@ -1069,6 +1387,7 @@ window.addEventListener('pointerup', () => {
 
 el.canvas.addEventListener('click', (evt) => {
   if (suppressClick || evt.target.dataset?.index !== undefined || evt.target.dataset?.handle !== undefined) return;
+  if (evt.target.dataset?.curve !== undefined && !evt.shiftKey && !evt.altKey) return;
   if (evt.button !== 0 || evt.shiftKey) return;
   const q = toWorld(evt);
   if (evt.altKey) { insertOnCurve(q); return; }
@@ -1117,8 +1436,15 @@ function typesText(target) {
 }
 
 window.addEventListener('keydown', (evt) => {
-  if (!pointerOnCanvas && typesText(evt.target)) return;
   const key = evt.key.toLowerCase();
+  // Ctrl+S saves the project from anywhere (no field uses it; the browser's own "save page"
+  // would save the page, not the curves).
+  if ((evt.ctrlKey || evt.metaKey) && !evt.shiftKey && !evt.altKey && key === 's') {
+    evt.preventDefault();
+    saveProject();
+    return;
+  }
+  if (!pointerOnCanvas && typesText(evt.target)) return;
   if ((evt.ctrlKey || evt.metaKey) && (key === 'z' || key === 'y')) {
     evt.preventDefault();
     if (key === 'y' || evt.shiftKey) redo(); else undo();
@@ -1140,6 +1466,8 @@ window.addEventListener('keydown', (evt) => {
     zoomCenter(0.8);
   } else if (key === 'f') {
     fitView();
+  } else if (evt.key === '[' || evt.key === ']') {
+    selectCurve(doc.selected + (evt.key === '[' ? -1 : 1)); // the previous / next curve
   } else {
     return;
   }
@@ -1159,18 +1487,34 @@ function download(filename, text, type) {
   setTimeout(() => URL.revokeObjectURL(url), 1000);
 }
 
-/** A standalone SVG of the curves, comb and points, y axis up like the editor. The view box
- * holds everything drawn: points, control polygons (which bound the curves) and comb teeth. */
+/**
+ * A standalone SVG of what the canvas shows, y axis up like the editor: with the scope
+ * "document", the other visible curves of the document in their colours (in the list's order,
+ * the first at the bottom), then the selected curve (unless hidden) with its ensemble, control
+ * polygon and comb when they are shown, and its points unless "points" is unticked. The view
+ * box holds everything drawn: points, control polygons (which bound the curves) and comb teeth.
+ */
 function exportSvgText() {
   const xs = [], ys = [];
   const addPt = ([x, y]) => { xs.push(x); ys.push(y); };
-  state.points.forEach(addPt);
+  const whole = el.exportScope.value === 'document';
+  const mainShown = !whole || selectedCurve().visible;
+  const points = mainShown && el.exportPoints.checked ? state.points : [];
+  points.forEach(addPt);
   const curves = [];
+  if (whole) {
+    doc.curves.forEach((c, i) => {
+      const fit = otherFits.get(c.id)?.fit;
+      if (i !== doc.selected && c.visible && fit) curves.push({ fit, color: c.color, width: 1.6, name: c.name });
+    });
+  }
   // The last good curve of an earlier state is not this document's curve.
-  if (mainFit && !mainStale) curves.push({ fit: mainFit, color: '#1d2330', width: 2.5 });
-  for (const [name, r] of ensembleFits) if (r.fit) curves.push({ fit: r.fit, color: colorOf(name), width: 1.6 });
+  if (mainShown && mainFit && !mainStale) curves.push({ fit: mainFit, color: '#1d2330', width: 2.5, name: selectedCurve().name });
+  if (mainShown) for (const [name, r] of ensembleFits) if (r.fit) curves.push({ fit: r.fit, color: colorOf(name), width: 1.6 });
   for (const c of curves) for (const s of c.fit.segments) s.bezier.forEach(addPt);
-  const comb = state.comb && !mainStale ? [...el.layerComb.children].filter((node) => node.tagName === 'line') : [];
+  const shown = (on, layer) => (mainShown && on && !mainStale ? [...layer.children] : []);
+  const comb = shown(state.comb, el.layerComb).filter((node) => node.tagName === 'line');
+  const polygon = shown(state.polygon, el.layerControl).filter((node) => node.tagName === 'polyline');
   for (const node of comb) {
     addPt([Number(node.getAttribute('x1')), Number(node.getAttribute('y1'))]);
     addPt([Number(node.getAttribute('x2')), Number(node.getAttribute('y2'))]);
@@ -1186,23 +1530,116 @@ function exportSvgText() {
     `<g transform="scale(1,-1)" fill="none">`,
   ];
   const stroke = (width) => `stroke-width="${width}" vector-effect="non-scaling-stroke"`;
+  const escape = (t) => t.replace(/&/g, '&amp;').replace(/"/g, '&quot;').replace(/</g, '&lt;');
   for (const c of curves) {
-    lines.push(`<path d="${pathData(c.fit.segments)}" stroke="${c.color}" ${stroke(c.width)} data-method="${c.fit.method}"/>`);
+    const name = c.name == null ? '' : ` data-curve="${escape(c.name)}"`;
+    lines.push(`<path d="${pathData(c.fit.segments)}" stroke="${c.color}" ${stroke(c.width)} data-method="${c.fit.method}"${name}/>`);
   }
+  for (const node of polygon) lines.push(`<polyline points="${node.getAttribute('points')}" stroke="#98a2b3" stroke-dasharray="4 3" ${stroke(1)}/>`);
   for (const node of comb) {
     const a = ['x1', 'y1', 'x2', 'y2'].map((k) => `${k}="${node.getAttribute(k)}"`).join(' ');
     lines.push(`<line ${a} stroke="${COMB_COLOR}" ${stroke(0.8)}/>`);
   }
-  for (const [x, y] of state.points) lines.push(`<circle cx="${x}" cy="${y}" r="${4 / px}" fill="#fff" stroke="#1d4ed8" ${stroke(1.5)}/>`);
+  for (const [x, y] of points) lines.push(`<circle cx="${x}" cy="${y}" r="${4 / px}" fill="#fff" stroke="#1d4ed8" ${stroke(1.5)}/>`);
   lines.push('</g>', '</svg>', '');
   return lines.join('\n');
 }
 
+/** A file name from a curve's or the document's name. */
+const fileStem = () => (el.exportScope.value === 'document' && doc.curves.length > 1 ? 'fairspline-document'
+  : `fairspline-${selectedCurve().name.replace(/[^\w.-]+/g, '-')}`);
+
 $('export-svg').addEventListener('click', () => {
   const text = exportSvgText();
   el.svgText.value = text;
-  download(`fairspline-${state.method ?? 'curve'}.svg`, text, 'image/svg+xml');
+  download(`${fileStem()}.svg`, text, 'image/svg+xml');
 });
+
+/** The SVG export drawn on a canvas at `scale` times its size (on white), as a PNG blob. */
+async function exportPngBlob(scale) {
+  const text = exportSvgText();
+  const url = URL.createObjectURL(new Blob([text], { type: 'image/svg+xml' }));
+  try {
+    const img = new Image();
+    img.src = url;
+    await img.decode();
+    const canvas = document.createElement('canvas');
+    canvas.width = Math.max(1, Math.round(img.naturalWidth * scale));
+    canvas.height = Math.max(1, Math.round(img.naturalHeight * scale));
+    const ctx = canvas.getContext('2d');
+    ctx.fillStyle = '#fff';
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    ctx.drawImage(img, 0, 0, canvas.width, canvas.height);
+    return await new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
+  } finally {
+    URL.revokeObjectURL(url);
+  }
+}
+
+$('export-png').addEventListener('click', async () => {
+  const v = Number(el.pngScale.value);
+  const scale = Number.isFinite(v) && v > 0 ? Math.min(v, 16) : 1;
+  const blob = await exportPngBlob(scale);
+  if (blob) download(`${fileStem()}.png`, blob, 'image/png');
+});
+
+// ---------- project files ----------
+
+/**
+ * The project file (docs/editor.md, "Project files"): every curve's data as the editor holds
+ * them (the arrows, not the derivatives sent: 3·arrow/Δt would not convert back bit for bit),
+ * the selected index, the view and the display settings. JSON.stringify writes each double so
+ * that JSON.parse gives it back exactly, so open → save writes the same text.
+ */
+function projectText() {
+  storeSelected();
+  const curves = doc.curves.map((c) => ({
+    name: c.name, visible: c.visible, color: c.color, method: c.method, options: c.options,
+    alpha: c.alpha, closed: c.closed, points: c.points, kinds: c.kinds, arrows: c.tangents, radii: c.radii,
+  }));
+  const project = {
+    format: PROJECT_FORMAT, version: PROJECT_VERSION, selected: doc.selected, curves,
+    view: { x: state.view.x, y: state.view.y, w: state.view.w },
+    display: { ensemble: [...state.ensemble], comb: state.comb, polygon: state.polygon, plot: state.plot },
+  };
+  return `${JSON.stringify(project, null, 1)}\n`;
+}
+
+function saveProject() {
+  const text = projectText();
+  el.projectText.value = text;
+  download('fairspline-project.json', text, 'application/json');
+}
+
+$('save-project').addEventListener('click', saveProject);
+
+/** Replaces the document by a project file's (one undo step); a bad file changes nothing. */
+function openProject(text, source) {
+  let project;
+  try {
+    project = parseProject(text);
+  } catch (e) {
+    importError = `${source}: ${e.message}`;
+    renderError();
+    return;
+  }
+  pushHistory();
+  doc.curves = [];
+  for (const c of project.curves) doc.curves.push({ ...c, id: nextCurveId++, color: c.color ?? freeColor() });
+  doc.selected = project.selected;
+  otherFits.clear();
+  if (project.display) {
+    state.ensemble = new Set(project.display.ensemble);
+    Object.assign(state, { comb: project.display.comb, polygon: project.display.polygon, plot: project.display.plot });
+    syncControls();
+    buildEnsemble();
+  }
+  loadSelected();
+  render();
+  if (project.view) setView(project.view);
+  else fitView();
+  changed();
+}
 
 /**
  * The JSON export: the fit of the main curve as `fairspline fit` writes it, whose "request"
@@ -1244,8 +1681,14 @@ function withoutDefaults(method, options) {
     !specs.has(name) || JSON.stringify(specs.get(name).default) !== JSON.stringify(v)));
 }
 
-/** Imports CSV/JSON text (pasted or from a file); an error leaves everything as it was. */
+/**
+ * Opens text pasted or from a file: a project file replaces the document; a curve (CSV, a JSON
+ * request or result of `fairspline fit`, a Curve Ensemble file) goes into the selected curve if
+ * it has no points yet, else into a new curve after it, named after the file. An error leaves
+ * everything as it was. One undo step either way.
+ */
 function importText(text, source) {
+  if (isProject(text)) { openProject(text, source); return; }
   let parsed;
   try {
     parsed = parseImport(text);
@@ -1255,6 +1698,16 @@ function importText(text, source) {
     return;
   }
   pushHistory();
+  const name = source === 'pasted text' ? null : source.replace(/\.[^.]*$/, '');
+  if (state.points.length) {
+    storeSelected();
+    cacheSelectedFit();
+    doc.curves.splice(doc.selected + 1, 0, newRecord(state, name));
+    doc.selected += 1;
+    loadSelected(); // the new curve has the settings of the one it follows
+  } else if (name && /^curve \d+$/.test(selectedCurve().name)) {
+    selectedCurve().name = name;
+  }
   if (parsed.closed != null) { state.closed = parsed.closed; el.closed.checked = state.closed; }
   if (parsed.alpha != null) { state.alpha = parsed.alpha; syncAlphaControl(); }
   if (parsed.method && methodInfo(parsed.method)) {
@@ -1264,21 +1717,24 @@ function importText(text, source) {
     buildOptionsForm();
   }
   replacePoints(parsed.points, parsed.kinds, parsed.radii);
-  // A file gives tangents (derivatives); the editor keeps arrows (see knotSpan).
+  // A file gives tangents (derivatives); the editor keeps arrows (see knotSpan). A Curve
+  // Ensemble file gives directions, made arrows by the parser.
   if (parsed.tangents) state.tangents = parsed.tangents.map((t, i) => (state.kinds[i] === 'clamped' ? tangentToArrow(t, i) : null));
+  if (parsed.arrows) state.tangents = parsed.arrows.map((a, i) => (state.kinds[i] === 'clamped' ? a : null));
+  renderCurvesPanel();
   fitView();
 }
 
 $('import').addEventListener('click', () => importText(el.importText.value, 'pasted text'));
 
 el.importFile.addEventListener('change', async () => {
-  const file = el.importFile.files?.[0];
-  if (!file) return;
-  if (file.size > 8 << 20) {
-    importError = `${file.name}: larger than 8 MB`;
-    renderError();
-  } else {
-    importText(await file.text(), file.name);
+  for (const file of el.importFile.files ?? []) {
+    if (file.size > 8 << 20) {
+      importError = `${file.name}: larger than 8 MB`;
+      renderError();
+    } else {
+      importText(await file.text(), file.name);
+    }
   }
   el.importFile.value = ''; // the same file can be chosen again
 });
@@ -1287,8 +1743,8 @@ el.importFile.addEventListener('change', async () => {
 el.canvas.addEventListener('dragover', (evt) => evt.preventDefault());
 el.canvas.addEventListener('drop', async (evt) => {
   evt.preventDefault();
-  const file = evt.dataTransfer?.files?.[0];
-  if (file) importText(await file.text(), file.name);
+  // Several files: each is opened in turn (several curves each go into a curve of their own).
+  for (const file of evt.dataTransfer?.files ?? []) importText(await file.text(), file.name);
 });
 
 el.undo.addEventListener('click', undo);
@@ -1396,6 +1852,7 @@ window.addEventListener('hashchange', () => {
   loadHash();
   if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
   drag = null;
+  renderCurvesPanel();
   mainFit = null;
   mainStale = false;
   mainError = null;
@@ -1422,6 +1879,7 @@ async function start() {
     return;
   }
   if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
+  for (const c of doc.curves) c.method ??= schema.default; // read from the hash before the methods were known
   for (const m of methodsInOrder()) {
     el.method.add(new Option(methodLabel(m), m.name));
     $('method-names').append(new Option(m.name));
@@ -1429,7 +1887,17 @@ async function start() {
   el.method.value = state.method;
   buildOptionsForm();
   buildEnsemble();
+  renderCurvesPanel();
   changed();
 }
+
+// The curves panel's buttons.
+$('curve-new').addEventListener('click', () => addCurve(newRecord()));
+$('curve-duplicate').addEventListener('click', duplicateCurve);
+$('curve-delete').addEventListener('click', deleteCurve);
+$('curve-up').addEventListener('click', () => moveCurve(-1));
+$('curve-down').addEventListener('click', () => moveCurve(1));
+el.curveName.addEventListener('input', () => renameCurve(el.curveName.value));
+el.curveName.addEventListener('change', endHistoryGroup);
 
 start();
