@@ -8,6 +8,8 @@
 
 #include "detail/bernstein.hpp"
 #include "detail/format.hpp"
+#include "detail/normalize.hpp"
+#include "detail/scale.hpp"
 #include "fairspline/energy.hpp"
 #include "fairspline/error.hpp"
 
@@ -16,6 +18,46 @@ namespace fairspline {
 namespace {
 
 using detail::format_number;
+
+// Lengths and distances square the coordinates, which leaves the double range near 1e±154:
+// such curves are measured on a copy scaled by a power of two (exact: the same bits wherever
+// the original computation neither overflows nor underflows) and the results scaled back.
+class UnitSpline {
+ public:
+  /// `also`: a point the computation meets too (a query), counted in the scale.
+  explicit UnitSpline(const Spline& s, std::optional<Point> also = std::nullopt) : original_(s) {
+    std::vector<Vec2> points;
+    points.reserve(4 * s.segments.size() + 1);
+    if (also) points.push_back(*also);
+    for (const Segment& g : s.segments)
+      points.insert(points.end(), g.bezier.p.begin(), g.bezier.p.end());
+    const int ex = detail::scale_exponent(points);
+    if (std::abs(ex) <= detail::kNormalRange) return;
+    ex_ = ex;
+    copy_ = s;
+    for (Segment& g : copy_->segments) {
+      for (Point& p : g.bezier.p) p = detail::scaled(p, -ex);
+    }
+  }
+  const Spline& get() const { return copy_ ? *copy_ : original_; }
+  double down(double v) const { return std::scalbn(v, -ex_); }
+  Point down(Point p) const { return detail::scaled(p, -ex_); }
+  /// A length or distance back in the curve's units; Error when it overflows there.
+  double up(double v) const {
+    const double out = std::scalbn(v, ex_);
+    if (!std::isfinite(out)) {
+      throw Error(ErrorCode::kNonFinite,
+                  "the curve's length or distance exceeds the range of floating-point numbers");
+    }
+    return out;
+  }
+  Point up(Point p) const { return detail::scaled(p, ex_); }
+
+ private:
+  const Spline& original_;
+  std::optional<Spline> copy_;
+  int ex_ = 0;
+};
 
 void check_not_empty(const Spline& s) {
   if (s.segments.empty()) throw Error(ErrorCode::kInvalidArgument, "the curve has no pieces");
@@ -101,29 +143,33 @@ Point checked(Point p) {
 std::vector<double> segment_lengths(const Spline& s, double accuracy) {
   check_not_empty(s);
   check_accuracy(accuracy);
+  const UnitSpline unit(s);
   std::vector<double> out;
   out.reserve(s.segments.size());
-  for (const Segment& g : s.segments) out.push_back(piece_length(g.bezier, accuracy));
+  for (const Segment& g : unit.get().segments)
+    out.push_back(unit.up(piece_length(g.bezier, accuracy)));
   return out;
 }
 
 double length(const Spline& s, double accuracy) {
-  const std::vector<double> parts = segment_lengths(s, accuracy);
-  double total = 0.0;
-  for (double v : parts) total += v;
-  return total;
+  check_not_empty(s);
+  check_accuracy(accuracy);
+  const UnitSpline unit(s);
+  return unit.up(cumulative_lengths(unit.get(), accuracy).back());
 }
 
 std::vector<double> lengths_at(const Spline& s, const std::vector<double>& t, double accuracy) {
   check_not_empty(s);
   check_accuracy(accuracy);
   for (std::size_t i = 0; i < t.size(); ++i) s.check_parameter(t[i], i);
-  const std::vector<double> cum = cumulative_lengths(s, accuracy);
+  const UnitSpline unit(s);
+  const Spline& us = unit.get();
+  const std::vector<double> cum = cumulative_lengths(us, accuracy);
   std::vector<double> out;
   out.reserve(t.size());
   for (double ti : t) {
-    const std::size_t k = s.segment_index(ti);
-    out.push_back(cum[k] + partial_length(s, k, s.local_parameter(k, ti), accuracy));
+    const std::size_t k = us.segment_index(ti);
+    out.push_back(unit.up(cum[k] + partial_length(us, k, us.local_parameter(k, ti), accuracy)));
   }
   return out;
 }
@@ -132,27 +178,30 @@ std::vector<double> parameters_at_lengths(const Spline& s, const std::vector<dou
                                           double accuracy) {
   check_not_empty(s);
   check_accuracy(accuracy);
-  const std::vector<double> cum = cumulative_lengths(s, accuracy);
+  const UnitSpline unit(s);
+  const Spline& us = unit.get();
+  const std::vector<double> cum = cumulative_lengths(us, accuracy);
   const double total = cum.back();
   for (std::size_t i = 0; i < lengths.size(); ++i) {
-    const double l = lengths[i];
+    const double l = unit.down(lengths[i]);
     // Rounding of the total: a length a few ulps past it is the end.
     if (!(l >= 0.0 && l <= total * (1 + 8 * std::numeric_limits<double>::epsilon()))) {
       throw Error(ErrorCode::kInvalidArgument,
-                  "arc length " + format_number(l) + " is outside the curve's [0, " +
-                      format_number(total) + "]",
+                  "arc length " + format_number(lengths[i]) + " is outside the curve's [0, " +
+                      format_number(unit.up(total)) + "]",
                   i);
     }
   }
   const double tol = accuracy * total;
   std::vector<double> out;
   out.reserve(lengths.size());
-  for (double l : lengths) {
+  for (double given : lengths) {
+    const double l = unit.down(given);
     // The piece holding l: the last whose start is at most l (a joint goes to the later piece).
     auto it = std::upper_bound(cum.begin() + 1, cum.end() - 1, l);
     const auto k = static_cast<std::size_t>(it - cum.begin()) - 1;
-    const Segment& g = s.segments[k];
-    const double u = local_at_length(s, k, l - cum[k], cum[k + 1] - cum[k], tol, accuracy);
+    const Segment& g = us.segments[k];
+    const double u = local_at_length(us, k, l - cum[k], cum[k + 1] - cum[k], tol, accuracy);
     out.push_back(u >= 1.0 ? g.t1 : g.t0 + u * (g.t1 - g.t0));
   }
   return out;
@@ -182,6 +231,8 @@ Polyline flatten(const Spline& s, double tolerance, std::size_t max_points) {
         ErrorCode::kInvalidArgument,
         "the flattening tolerance must be a positive number, got " + format_number(tolerance));
   }
+  const UnitSpline unit(s);
+  const double tol = unit.down(tolerance);
   Polyline out;
   out.points.push_back(s.segments.front().bezier.p[0]);
   out.parameters.push_back(s.segments.front().t0);
@@ -190,14 +241,14 @@ Polyline flatten(const Spline& s, double tolerance, std::size_t max_points) {
     double u0, u1;
   };
   std::vector<Part> stack;
-  for (const Segment& g : s.segments) {
+  for (const Segment& g : unit.get().segments) {
     stack.push_back({g.bezier, 0.0, 1.0});
     while (!stack.empty()) {
       const Part part = stack.back();
       stack.pop_back();
       const CubicBezier& b = part.b;
-      const bool flat = distance_to_segment(b.p[1], b.p[0], b.p[3]) <= tolerance &&
-                        distance_to_segment(b.p[2], b.p[0], b.p[3]) <= tolerance;
+      const bool flat = distance_to_segment(b.p[1], b.p[0], b.p[3]) <= tol &&
+                        distance_to_segment(b.p[2], b.p[0], b.p[3]) <= tol;
       const double um = 0.5 * (part.u0 + part.u1);
       // A part that halving no longer shrinks (rounding) is as flat as doubles can make it.
       if (flat || !(um > part.u0 && um < part.u1)) {
@@ -207,7 +258,7 @@ Polyline flatten(const Spline& s, double tolerance, std::size_t max_points) {
                           " needs more than " + std::to_string(max_points) +
                           " points; give a larger tolerance");
         }
-        out.points.push_back(b.p[3]);
+        out.points.push_back(unit.up(b.p[3]));
         out.parameters.push_back(part.u1 >= 1.0 ? g.t1 : g.t0 + part.u1 * (g.t1 - g.t0));
         continue;
       }
@@ -221,15 +272,16 @@ Polyline flatten(const Spline& s, double tolerance, std::size_t max_points) {
 
 BBox bounds(const Spline& s) {
   check_not_empty(s);
-  BBox box = s.segments.front().bezier.bbox();
-  for (const Segment& g : s.segments) {
+  const UnitSpline unit(s);
+  BBox box = unit.get().segments.front().bezier.bbox();
+  for (const Segment& g : unit.get().segments) {
     const BBox b = g.bezier.bbox();
     box.min.x = std::min(box.min.x, b.min.x);
     box.min.y = std::min(box.min.y, b.min.y);
     box.max.x = std::max(box.max.x, b.max.x);
     box.max.y = std::max(box.max.y, b.max.y);
   }
-  return box;
+  return {unit.up(box.min), unit.up(box.max)};
 }
 
 Projection project(const Spline& s, Point q) {
@@ -238,10 +290,13 @@ Projection project(const Spline& s, Point q) {
     throw Error(ErrorCode::kNonFinite,
                 "the query point " + detail::format_point(q) + " is not finite");
   }
+  const UnitSpline unit(s, q);
+  const Spline& us = unit.get();
+  q = unit.down(q);
   Projection best;
   best.distance = std::numeric_limits<double>::infinity();
   auto consider = [&](std::size_t k, double u) {
-    const Segment& g = s.segments[k];
+    const Segment& g = us.segments[k];
     const Point p = g.bezier.eval(u);
     const double d = distance(p, q);
     if (d < best.distance) {
@@ -250,8 +305,8 @@ Projection project(const Spline& s, Point q) {
   };
   // Binomial weights of the Bernstein product (degree 3 times degree 2).
   static constexpr double kC3[4] = {1, 3, 3, 1}, kC2[3] = {1, 2, 1}, kC5[6] = {1, 5, 10, 10, 5, 1};
-  for (std::size_t k = 0; k < s.segments.size(); ++k) {
-    const CubicBezier& b = s.segments[k].bezier;
+  for (std::size_t k = 0; k < us.segments.size(); ++k) {
+    const CubicBezier& b = us.segments[k].bezier;
     if (box_distance(q, b.control_bbox()) >= best.distance) continue;
     consider(k, 0.0);
     consider(k, 1.0);
@@ -282,6 +337,8 @@ Projection project(const Spline& s, Point q) {
       consider(k, u);
     }
   }
+  best.point = unit.up(best.point);
+  best.distance = unit.up(best.distance);
   return best;
 }
 

@@ -306,6 +306,39 @@ TEST(Geometry, FramesAreUnitTangentAndNormalAlsoAtACusp) {
   EXPECT_NEAR(dot(after, f.tangent), 1.0, 1e-6);
 }
 
+// Curves near 1e±180 (whose squares leave the double range) give the unit curve's results
+// scaled by the same power of two, bit for bit; a length beyond the range is an error.
+TEST(Geometry, ExtremeScalesGiveScaledResultsExactly) {
+  const Spline s = wavy();
+  for (int e : {600, -600}) {
+    Spline big = s;
+    for (Segment& g : big.segments) {
+      for (Point& p : g.bezier.p) p = {std::scalbn(p.x, e), std::scalbn(p.y, e)};
+    }
+    EXPECT_EQ(length(big), std::scalbn(length(s), e));
+    const std::vector<double> at = {0.0, std::scalbn(10.0, e), length(big)};
+    EXPECT_EQ(parameters_at_lengths(big, at), parameters_at_lengths(s, {0.0, 10.0, length(s)}));
+    const Polyline a = flatten(s, 1e-3), b = flatten(big, std::scalbn(1e-3, e));
+    ASSERT_EQ(a.points.size(), b.points.size());
+    EXPECT_EQ(b.points[7].x, std::scalbn(a.points[7].x, e));
+    EXPECT_EQ(bounds(big).max.y, std::scalbn(bounds(s).max.y, e));
+    const Projection p = project(s, {5, 110});
+    const Projection q = project(big, {std::scalbn(5.0, e), std::scalbn(110.0, e)});
+    EXPECT_EQ(q.t, p.t);
+    EXPECT_EQ(q.distance, std::scalbn(p.distance, e));
+    EXPECT_TRUE(std::isfinite(q.distance) && q.distance > 0);
+  }
+  Spline huge;
+  huge.segments.push_back(
+      piece({-1.5e308, 0}, {-0.5e308, 1e308}, {0.5e308, -1e308}, {1.5e308, 0}, 0.0, 1.0, 0));
+  try {
+    (void)length(huge);
+    FAIL() << "an overflowing length returned";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNonFinite);
+  }
+}
+
 TEST(Geometry, BadArgumentsAreErrors) {
   const Spline s = straight();
   auto code_of = [](auto&& call) {
