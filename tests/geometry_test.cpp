@@ -5,6 +5,7 @@
 #include "fairspline/geometry.hpp"
 
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <cmath>
 #include <numbers>
@@ -198,7 +199,7 @@ TEST(Geometry, ProjectionIsNoFartherThanABruteForceSearch) {
     double best = HUGE_VAL, at = 0;
     const int n = 20000;
     for (int k = 0; k <= n; ++k) {
-      const double t = s.t_begin() + (s.t_end() - s.t_begin()) * k / n;
+      const double t = s.t_begin() + (s.t_end() - s.t_begin()) * (static_cast<double>(k) / n);
       const double d = distance(s.eval(t), q);
       if (d < best) best = d, at = t;
     }
@@ -237,7 +238,7 @@ TEST(Geometry, SubcurvesSplitAndReversalKeepThePoints) {
   EXPECT_EQ(right.t_begin(), t);
   EXPECT_EQ(right.t_end(), b);
   for (int k = 0; k <= 50; ++k) {
-    const double tl = a + (t - a) * k / 50, tr = t + (b - t) * k / 50;
+    const double tl = a + (t - a) * (k / 50.0), tr = t + (b - t) * (k / 50.0);
     EXPECT_LE(distance(left.eval(tl), s.eval(tl)), 1e-12 * 200);
     EXPECT_LE(distance(right.eval(tr), s.eval(tr)), 1e-12 * 200);
   }
@@ -250,7 +251,7 @@ TEST(Geometry, SubcurvesSplitAndReversalKeepThePoints) {
   EXPECT_EQ(r.t_begin(), a);
   EXPECT_EQ(r.t_end(), b);
   for (int k = 0; k <= 50; ++k) {
-    const double tk = a + (b - a) * k / 50;
+    const double tk = a + (b - a) * (k / 50.0);
     EXPECT_LE(distance(r.eval(a + b - tk), s.eval(tk)), 1e-12 * 200);
   }
   const Spline rr = reversed(r);
@@ -269,7 +270,7 @@ TEST(Geometry, AffineMapsMapEveryPoint) {
   const Affine m{2 * c, 2 * sn, -2 * sn, 2 * c, 5, -3};  // rotate by 0.7, scale 2, translate
   const Spline ms = transformed(s, m);
   for (int k = 0; k <= 50; ++k) {
-    const double t = s.t_begin() + (s.t_end() - s.t_begin()) * k / 50;
+    const double t = s.t_begin() + (s.t_end() - s.t_begin()) * (k / 50.0);
     EXPECT_LE(distance(ms.eval(t), m(s.eval(t))), 1e-12 * 400);
   }
   EXPECT_NEAR(length(ms), 2 * length(s), 1e-11 * length(s));
@@ -287,7 +288,7 @@ TEST(Geometry, AffineMapsMapEveryPoint) {
 TEST(Geometry, FramesAreUnitTangentAndNormalAlsoAtACusp) {
   const Spline s = wavy();
   for (int k = 0; k <= 20; ++k) {
-    const double t = s.t_begin() + (s.t_end() - s.t_begin()) * k / 20;
+    const double t = s.t_begin() + (s.t_end() - s.t_begin()) * (k / 20.0);
     const Frame f = frame_at(s, t);
     const Vec2 d = s.derivative(t);
     EXPECT_NEAR(norm(f.tangent), 1.0, 1e-15);
@@ -337,6 +338,50 @@ TEST(Geometry, ExtremeScalesGiveScaledResultsExactly) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kNonFinite);
   }
+}
+
+// Random fits (open or closed random walks with sharp turns, loops and cusps allowed by some
+// methods) and tolerances: the polyline within the tolerance both ways (against the
+// projection), the nearest point no farther than dense samples, and split + reversal keeping
+// the curve and its length.
+RC_GTEST_PROP(GeometryProps, FlattenProjectSplitAndReverseOnRandomFits, ()) {
+  const auto n = static_cast<std::size_t>(*rc::gen::inRange(3, 12));
+  const bool closed = *rc::gen::arbitrary<bool>();
+  const auto seed = static_cast<std::uint64_t>(*rc::gen::inRange(0, 1 << 30));
+  const char* method = *rc::gen::element("quasi-elastic", "li-strain", "jaklic-zagar");
+  FitInput in;
+  in.points = testing::random_walk(n, seed, 150);
+  in.closed = closed;
+  FitResult r;
+  try {
+    r = fit(method, in, nlohmann::json::object(), FitOptions{.level = ReportLevel::kNone});
+  } catch (const Error&) {
+    RC_SUCCEED("no fit");
+  }
+  const Spline& s = r.spline;
+  const double size =
+      std::hypot(bounds(s).max.x - bounds(s).min.x, bounds(s).max.y - bounds(s).min.y);
+  const double tol = size * std::pow(10.0, -*rc::gen::inRange(1, 5));
+  const Polyline line = flatten(s, tol);
+  for (std::size_t i = 0; i + 1 < line.points.size(); ++i) {
+    const Point mid = 0.5 * (line.points[i] + line.points[i + 1]);
+    RC_ASSERT(project(s, mid).distance <= tol * (1 + 1e-12));
+    const double tm = 0.5 * (line.parameters[i] + line.parameters[i + 1]);
+    RC_ASSERT(testing::distance_to_polyline(s.eval(tm), line.points) <= tol * (1 + 1e-12));
+  }
+  const Point q{*rc::gen::inRange(-20, 20) * 0.5, *rc::gen::inRange(-20, 20) * 0.5};
+  const Projection p = project(s, q);
+  for (int k = 0; k <= 2000; ++k) {
+    const double t = s.t_begin() + (s.t_end() - s.t_begin()) * (k / 2000.0);  // k = 2000: t_end
+    RC_ASSERT(p.distance <= distance(s.eval(t), q) + 1e-12 * (1 + p.distance));
+  }
+  const double t = s.t_begin() + (s.t_end() - s.t_begin()) * *rc::gen::inRange(1, 99) / 100;
+  const auto [left, right] = split(s, t);
+  const double total = length(s);
+  RC_ASSERT(std::abs(length(left) + length(right) - total) <= 1e-10 * total);
+  const Spline back = reversed(s);
+  RC_ASSERT(std::abs(length(back) - total) <= 1e-12 * total);
+  RC_ASSERT(distance(back.eval(back.t_begin()), s.eval(s.t_end())) <= 1e-12 * size);
 }
 
 TEST(Geometry, BadArgumentsAreErrors) {
