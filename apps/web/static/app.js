@@ -1196,6 +1196,9 @@ function render() {
   el.layerEnsemble.replaceChildren();
   el.legend.replaceChildren();
   if (mainFit) addLegend(`${mainFit.method} (main${mainStale ? ', last good fit' : ''})`, 'var(--fg)');
+  doc.curves.forEach((c, i) => {
+    if (i !== doc.selected && c.visible && otherFits.get(c.id)?.fit) addLegend(`${c.name}: ${c.method}`, c.color);
+  });
   for (const [name, result] of ensembleFits) {
     if (!result.fit) continue;
     const color = colorOf(name);
