@@ -259,6 +259,17 @@ await run(async ({ page, url }) => {
   check(png.subarray(1, 4).toString() === 'PNG' && pw === Math.round(1.5 * Number(sw)) && ph === Math.round(1.5 * Number(sh)),
     `Export PNG at scale 1.5 gives a ${pw}×${ph} PNG`);
 
+  // ---- a pasted Curve Ensemble file: closed, a clamped node inside, a data ball, "inf" energy ----
+  await page.fill(sel('import-text'), '#Curve Ensemble Text File\n0 0 0 0 0 0 \n100 0 90 0 1 0 \n100 100 0 0 -12 0 \n0 100 0 0 0 inf \n');
+  await page.click(sel('import'));
+  await settled();
+  check(await pointCount(page) === 4 && await page.isChecked(sel('closed')) && await page.locator(sel('tangent-1')).count() === 1
+    && await page.$eval(sel('ball-2'), (c) => Number(c.getAttribute('r'))) === 12,
+    'a closed Curve Ensemble curve: state 1 inside is clamped, state −12 a data ball of radius 12');
+  await page.fill(sel('import-text'), '#Curve Ensemble Text File\n0 0 nan 0 0 0\n1 1 0 0 0 0\n');
+  await page.click(sel('import'));
+  check(/line 2/.test(await page.locator(sel('error')).textContent()), 'a malformed Curve Ensemble line is named');
+
   // ---- layout at 1280×800: the new panel fits its column ----
   for (let i = 0; i < 6; i++) await page.click(sel('curve-new'));
   const layout = await page.evaluate(() => {

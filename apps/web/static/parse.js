@@ -118,7 +118,8 @@ function fromCurveEnsemble(text) {
     if (raw.startsWith('#') || raw.trim() === '') return;
     const cells = raw.trim().split(/\s+/);
     const nums = cells.slice(0, 6).map(Number);
-    if (!nums.slice(0, 2).every(Number.isFinite) || cells.length < 2) {
+    // The energy column (6th) may be "inf" (an infeasible piece) and is not read.
+    if (!nums.slice(0, 5).every(Number.isFinite) || cells.length < 2) {
       throw new Error(`line ${n + 1}: expected "x y [direction corner state energy]", got "${raw.trim().slice(0, 40)}"`);
     }
     if (cells.length !== 3) threeColumns = false;
