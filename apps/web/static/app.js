@@ -337,9 +337,20 @@ function renameCurve(name) {
   saveHash();
 }
 
+let curvesPanelKey = null; // what the rows show, so that they are rebuilt only when it changes
+
 /** The curves panel: one row per curve (visibility box, colour, name and method; the selected
- * row highlighted; a failed fit marked with its message), and the selected curve's name. */
+ * row highlighted; a failed fit marked with its message), and the selected curve's name. The
+ * rows are rebuilt only when what they show changes: a fit arriving between the press and the
+ * release of a click on a row would otherwise replace the button and lose the click. */
 function renderCurvesPanel() {
+  if (document.activeElement !== el.curveName) el.curveName.value = selectedCurve()?.name ?? '';
+  $('curve-up').disabled = doc.selected === 0;
+  $('curve-down').disabled = doc.selected === doc.curves.length - 1;
+  const errorOf = (c, i) => (i !== doc.selected && c.visible ? otherFits.get(c.id)?.error ?? null : null);
+  const key = JSON.stringify([doc.selected, state.method, doc.curves.map((c, i) => [c.id, c.name, c.visible, c.color, c.method, errorOf(c, i)])]);
+  if (key === curvesPanelKey) return;
+  curvesPanelKey = key;
   el.curves.replaceChildren();
   doc.curves.forEach((c, i) => {
     const sel = i === doc.selected;
@@ -361,15 +372,14 @@ function renderCurvesPanel() {
     name.className = 'curve-name';
     name.dataset.testid = `curves-select-${i}`;
     const method = sel ? state.method : c.method;
-    const n = sel ? state.points.length : c.points.length;
     name.textContent = c.name;
-    name.title = `${c.name}: ${method}, ${n} points`;
+    name.title = `${c.name}: ${method}`;
     name.addEventListener('click', () => selectCurve(i));
     const info = document.createElement('span');
     info.className = 'curve-method';
     info.textContent = method ?? '';
     li.append(box, sw, name, info);
-    const err = !sel && c.visible ? otherFits.get(c.id)?.error : null;
+    const err = errorOf(c, i);
     if (err) {
       const mark = document.createElement('span');
       mark.className = 'curve-error';
@@ -380,9 +390,6 @@ function renderCurvesPanel() {
     }
     el.curves.append(li);
   });
-  if (document.activeElement !== el.curveName) el.curveName.value = selectedCurve()?.name ?? '';
-  $('curve-up').disabled = doc.selected === 0;
-  $('curve-down').disabled = doc.selected === doc.curves.length - 1;
 }
 
 /** The visible curves other than the selected one: thinner, dimmed, each in its colour; a
