@@ -210,8 +210,16 @@ await run(async ({ page, url }) => {
     'its states: open, clamped ends (3, 5), a free node inside is a corner; Curve Ensemble\'s method');
   const arrow0 = await page.$eval(sel('tangent-0'), (g) => { const l = g.querySelector('line'); return Math.atan2(l.getAttribute('y2') - l.getAttribute('y1'), l.getAttribute('x2') - l.getAttribute('x1')) * 180 / Math.PI; });
   check(Math.abs(arrow0 - 30) < 1e-9, `the clamped start points at its DIR, 30° (${arrow0})`);
-  await page.click(sel('zoom-fit'));
-  await settled();
+  await page.click(sel('zoom-fit-all'));
+  const framed = await page.evaluate(() => {
+    const c = document.querySelector('[data-testid="canvas"]').getBoundingClientRect();
+    const paths = [...document.querySelectorAll('#layer-main path, #layer-curves path')];
+    return paths.length === 5 && paths.every((p) => {
+      const b = p.getBoundingClientRect();
+      return b.left >= c.left && b.right <= c.right && b.top >= c.top && b.bottom <= c.bottom;
+    });
+  });
+  check(framed, '"all" (Shift+F) frames every curve of the document, from 14 units wide to 700');
 
   // ---- the document's SVG, rendered by chromium; the PNG export ----
   await page.click(sel('curves-select-0'));
@@ -271,6 +279,7 @@ await run(async ({ page, url }) => {
   check(/line 2/.test(await page.locator(sel('error')).textContent()), 'a malformed Curve Ensemble line is named');
 
   // ---- layout at 1280×800: the new panel fits its column ----
+  await page.click(sel(`curves-select-5`));
   for (let i = 0; i < 6; i++) await page.click(sel('curve-new'));
   const layout = await page.evaluate(() => {
     const panel = document.querySelector('.panel');
@@ -282,9 +291,13 @@ await run(async ({ page, url }) => {
       listOverflow: list.scrollWidth - list.clientWidth,
       listHeight: list.getBoundingClientRect().height,
       toolsInside: tools.left >= p.left && tools.right <= p.right,
+      selectedRowShown: (() => {
+        const row = list.querySelector('li.selected').getBoundingClientRect(), box = list.getBoundingClientRect();
+        return list.scrollTop > 0 && row.top >= box.top - 1 && row.bottom <= box.bottom + 1;
+      })(),
     };
   });
-  check(layout.panelOverflow <= 0 && layout.listOverflow <= 0 && layout.toolsInside && layout.listHeight <= 200,
+  check(layout.panelOverflow <= 0 && layout.listOverflow <= 0 && layout.toolsInside && layout.listHeight <= 200 && layout.selectedRowShown,
     `at 1280×800 the curves panel stays in its column, the list scrolls (${JSON.stringify(layout)})`);
   await page.screenshot({ path: `${out}/editor-documents-many.png` });
 });

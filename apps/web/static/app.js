@@ -344,12 +344,26 @@ let curvesPanelKey = null; // what the rows show, so that they are rebuilt only 
  * rows are rebuilt only when what they show changes: a fit arriving between the press and the
  * release of a click on a row would otherwise replace the button and lose the click. */
 function renderCurvesPanel() {
+  // Scrolled only when the rows change (selection included), not under a user reading the list.
+  if (renderCurveRows()) scrollToSelectedRow();
+}
+
+/** Keeps the selected row in the list's view (without scrolling the panel around it). */
+function scrollToSelectedRow() {
+  const li = el.curves.children[doc.selected];
+  if (!li) return;
+  const top = li.offsetTop, bottom = top + li.offsetHeight;
+  if (top < el.curves.scrollTop) el.curves.scrollTop = top;
+  else if (bottom > el.curves.scrollTop + el.curves.clientHeight) el.curves.scrollTop = bottom - el.curves.clientHeight;
+}
+
+function renderCurveRows() {
   if (document.activeElement !== el.curveName) el.curveName.value = selectedCurve()?.name ?? '';
   $('curve-up').disabled = doc.selected === 0;
   $('curve-down').disabled = doc.selected === doc.curves.length - 1;
   const errorOf = (c, i) => (i !== doc.selected && c.visible ? otherFits.get(c.id)?.error ?? null : null);
   const key = JSON.stringify([doc.selected, state.method, doc.curves.map((c, i) => [c.id, c.name, c.visible, c.color, c.method, errorOf(c, i)])]);
-  if (key === curvesPanelKey) return;
+  if (key === curvesPanelKey) return false;
   curvesPanelKey = key;
   el.curves.replaceChildren();
   doc.curves.forEach((c, i) => {
@@ -390,6 +404,7 @@ function renderCurvesPanel() {
     }
     el.curves.append(li);
   });
+  return true;
 }
 
 /** The visible curves other than the selected one: thinner, dimmed, each in its colour; a
@@ -983,12 +998,21 @@ function zoomCenter(factor) {
 }
 
 /** Frames the points (and curves) with a margin; the default frame when there is nothing. */
-function fitView() {
-  const xs = [], ys = [];
-  for (const [x, y] of state.points) { xs.push(x); ys.push(y); }
-  for (const s of mainFit?.segments ?? []) for (const [x, y] of s.bezier) { xs.push(x); ys.push(y); }
-  if (!xs.length) return setView({ x: 0, y: 0, w: FRAME_W });
-  const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
+function fitView(all = false) {
+  // The selected curve's points and fit; with `all`, those of every visible curve too.
+  const shapes = [{ points: state.points, fit: mainFit }];
+  if (all) {
+    doc.curves.forEach((c, i) => {
+      if (i !== doc.selected && c.visible) shapes.push({ points: c.points, fit: otherFits.get(c.id)?.fit });
+    });
+  }
+  let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
+  const add = ([x, y]) => { x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y); };
+  for (const { points, fit } of shapes) {
+    points.forEach(add);
+    for (const s of fit?.segments ?? []) s.bezier.forEach(add);
+  }
+  if (x0 > x1) return setView({ x: 0, y: 0, w: FRAME_W });
   const size = Math.max(x1 - x0, (y1 - y0) / ASPECT, 1e-6 * Math.max(1, Math.abs(x0), Math.abs(y0)));
   const w = size * 1.15;
   // World y is flipped: user y = FRAME_H − world y.
@@ -1475,7 +1499,7 @@ window.addEventListener('keydown', (evt) => {
   } else if (evt.key === '-') {
     zoomCenter(0.8);
   } else if (key === 'f') {
-    fitView();
+    fitView(evt.shiftKey); // Shift+F: every visible curve of the document
   } else if (evt.key === '[' || evt.key === ']') {
     selectCurve(doc.selected + (evt.key === '[' ? -1 : 1)); // the previous / next curve
   } else {
@@ -1837,7 +1861,8 @@ el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderC
 el.plotToggle.addEventListener('change', () => { state.plot = el.plotToggle.checked; renderPlot(); saveHash(); });
 $('zoom-in').addEventListener('click', () => zoomCenter(1.25));
 $('zoom-out').addEventListener('click', () => zoomCenter(0.8));
-$('zoom-fit').addEventListener('click', fitView);
+$('zoom-fit').addEventListener('click', () => fitView());
+$('zoom-fit-all').addEventListener('click', () => fitView(true));
 el.errorHint.addEventListener('click', applyHint);
 el.errorShow.addEventListener('click', () => {
   const p = state.points[mainError?.index ?? -1];
