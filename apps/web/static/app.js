@@ -7,6 +7,11 @@
 import { nearestSegment, pathData, sampleCurve } from './bezier.js';
 import { PROJECT_FORMAT, PROJECT_VERSION, isProject, parseImport, parseProject } from './parse.js';
 import { renderCurvaturePlot } from './plot.js';
+import {
+  FIG7_PRESET, entriesFrom, entryColors, entryKey, entryLabel, entryToHash, entryToProject,
+  isDefaultEntry, makeEntry,
+} from './entries.js';
+import { markedNodes, renderMethodReport } from './report.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const FRAME_W = 1000, FRAME_H = 700, ASPECT = FRAME_H / FRAME_W;
@@ -45,6 +50,10 @@ const el = {
   curves: $('curves'), curveName: $('curve-name'), layerCurves: $('layer-curves'),
   exportScope: $('export-scope'), exportPoints: $('export-points'), pngScale: $('png-scale'),
   projectText: $('export-project-text'),
+  entries: $('ensemble-entries'), entryForm: $('entry-form'), entryMethod: $('entry-method'),
+  entryOptions: $('entry-options'), entryAlpha: $('entry-alpha'), tableHead: $('ensemble-table').tHead,
+  methodReport: $('method-report'), layerReport: $('layer-report'), layerHighlight: $('layer-highlight'),
+  combAll: $('comb-all'), layerCombOthers: $('layer-comb-others'),
 };
 
 const state = {
@@ -56,8 +65,9 @@ const state = {
   alpha: 0.5,          // knot parameterization exponent (sent as "alpha")
   method: null,
   options: {},         // user-set options of the current method (defaults are left out)
-  ensemble: new Set(), // method names fitted alongside with their default options
+  ensemble: [],        // entries {method, options, alpha} fitted alongside (entries.js)
   comb: false,
+  combAll: false,      // combs of the other visible curves and ensemble entries too
   polygon: false,      // draw the Bézier control polygons of the main curve
   plot: true,          // the curvature plot under the canvas
   view: { x: 0, y: 0, w: FRAME_W }, // the SVG viewBox (user units; height = w · ASPECT)
@@ -72,7 +82,7 @@ let mainTiming = null;         // {server, roundTrip} in ms of the last main fit
 let lastDrawMs = null;         // time render() took after the last fit
 let editSince = null;          // performance.now() of the oldest edit not yet sent to the server
 let lastLatencyMs = null;      // from that edit to the fit drawn on screen (debounce included)
-const ensembleFits = new Map(); // name → {fit} or {error}
+const ensembleFits = new Map(); // entryKey → {fit} or {error}
 let mainFitKey = null;         // the request body (JSON text) mainFit answers
 
 // ---------- the document: several curves, one of them selected ----------
@@ -535,8 +545,9 @@ function hashCurve(c) {
 function saveHash() {
   const data = {
     ...hashCurve(state),
-    e: [...state.ensemble],
+    e: state.ensemble.map(entryToHash),
     k: state.comb ? 1 : 0,
+    ...(state.combAll ? { K: 1 } : {}),
     g: state.polygon ? 1 : 0,
     q: state.plot ? 1 : 0,
     v: [compact(state.view.x), compact(state.view.y), compact(state.view.w)],
@@ -553,7 +564,7 @@ function saveHash() {
 /** The state of an empty editor. */
 const freshState = () => ({
   points: [], kinds: [], tangents: [], radii: [], closed: false, alpha: 0.5, method: schema.default,
-  options: {}, ensemble: new Set(), comb: false, polygon: false, plot: true,
+  options: {}, ensemble: [], comb: false, combAll: false, polygon: false, plot: true,
   view: { x: 0, y: 0, w: FRAME_W }, selected: -1,
 });
 
@@ -610,8 +621,9 @@ function loadHash() {
     Object.assign(state, curveFromHash(data));
     resetDocument();
     documentFromHash(data);
-    if (Array.isArray(data.e)) state.ensemble = new Set(data.e);
+    if (Array.isArray(data.e)) state.ensemble = entriesFrom(data.e);
     state.comb = !!data.k;
+    state.combAll = !!data.K;
     state.polygon = !!data.g;
     state.plot = data.q == null ? true : !!data.q;
     if (Array.isArray(data.v) && data.v.length === 3 && data.v.every(Number.isFinite) && data.v[2] > 0) {
@@ -651,13 +663,17 @@ function numberInput(opt, value, onValue) {
   return input;
 }
 
-function optionControl(opt) {
-  const current = state.options[opt.name];
-  const id = `option-${opt.name}`;
+/**
+ * The control of one option of a schema. `current` is its value (undefined: the default),
+ * `set(name, value, typing)` stores a change; the method's form uses state.options and
+ * setOption, the ensemble's "add entry" form a draft of its own (prefix names the test ids).
+ */
+function optionControl(opt, current = state.options[opt.name], set = setOption, prefix = 'option') {
+  const id = `${prefix}-${opt.name}`;
   switch (opt.type) {
     case 'number':
     case 'integer': {
-      const input = numberInput(opt, current ?? opt.default, (v) => setOption(opt.name, v, true));
+      const input = numberInput(opt, current ?? opt.default, (v) => set(opt.name, v, true));
       input.dataset.testid = id;
       if (opt.default == null) input.placeholder = 'default';
       return input;
@@ -667,7 +683,7 @@ function optionControl(opt) {
       input.type = 'checkbox';
       input.checked = !!(current ?? opt.default);
       input.dataset.testid = id;
-      input.addEventListener('change', () => setOption(opt.name, input.checked));
+      input.addEventListener('change', () => set(opt.name, input.checked));
       return input;
     }
     case 'choice': {
@@ -675,7 +691,7 @@ function optionControl(opt) {
       for (const c of opt.choices ?? []) select.add(new Option(c, c));
       select.value = current ?? opt.default;
       select.dataset.testid = id;
-      select.addEventListener('change', () => setOption(opt.name, select.value));
+      select.addEventListener('change', () => set(opt.name, select.value));
       return select;
     }
     case 'choice_or_number': {
@@ -688,16 +704,16 @@ function optionControl(opt) {
       select.add(new Option('number', '#number'));
       select.dataset.testid = id;
       const input = numberInput(opt, typeof value === 'number' ? value : null, (v) => {
-        if (select.value === '#number') setOption(opt.name, v, true);
+        if (select.value === '#number') set(opt.name, v, true);
       });
       input.dataset.testid = `${id}-number`;
       select.value = typeof value === 'number' ? '#number' : (value ?? '#number');
       input.disabled = select.value !== '#number';
       select.addEventListener('change', () => {
         input.disabled = select.value !== '#number';
-        if (select.value !== '#number') return setOption(opt.name, select.value);
+        if (select.value !== '#number') return set(opt.name, select.value);
         const v = Number(input.value);
-        setOption(opt.name, input.value.trim() !== '' && Number.isFinite(v) ? v : undefined);
+        set(opt.name, input.value.trim() !== '' && Number.isFinite(v) ? v : undefined);
       });
       wrap.append(select, input);
       return wrap;
@@ -710,11 +726,11 @@ function optionControl(opt) {
       input.dataset.testid = id;
       input.addEventListener('input', () => {
         const text = input.value.trim();
-        if (text === '') { input.classList.remove('invalid'); return setOption(opt.name, undefined, true); }
+        if (text === '') { input.classList.remove('invalid'); return set(opt.name, undefined, true); }
         const list = text.replace(/^\[|\]$/g, '').split(/[\s,;]+/).filter(Boolean).map(Number);
         const ok = list.every(Number.isFinite);
         input.classList.toggle('invalid', !ok);
-        if (ok) setOption(opt.name, list, true);
+        if (ok) set(opt.name, list, true);
       });
       input.addEventListener('change', endHistoryGroup);
       return input;
@@ -727,7 +743,7 @@ function optionControl(opt) {
       input.setAttribute('list', 'method-names');
       input.placeholder = '(none)';
       input.dataset.testid = id;
-      input.addEventListener('input', () => setOption(opt.name, input.value === '' ? undefined : input.value, true));
+      input.addEventListener('input', () => set(opt.name, input.value === '' ? undefined : input.value, true));
       input.addEventListener('change', endHistoryGroup);
       return input;
     }
@@ -784,6 +800,8 @@ function methodLabel(m) {
   return m.name;
 }
 
+/** The ensemble's method boxes: a ticked box is the method's default entry (its default
+ * options, the curve's α). Entries are display settings, like the comb: not undo steps. */
 function buildEnsemble() {
   el.ensemble.replaceChildren();
   for (const m of methodsInOrder()) {
@@ -791,12 +809,11 @@ function buildEnsemble() {
     label.title = m.description;
     const box = document.createElement('input');
     box.type = 'checkbox';
-    box.checked = state.ensemble.has(m.name);
+    box.checked = state.ensemble.some((e) => isDefaultEntry(e) && e.method === m.name);
     box.dataset.testid = `ensemble-${m.name}`;
     box.addEventListener('change', () => {
-      if (box.checked) state.ensemble.add(m.name);
-      else { state.ensemble.delete(m.name); ensembleFits.delete(m.name); }
-      changed();
+      if (box.checked) addEntries([makeEntry(m.name)]);
+      else removeEntry(state.ensemble.findIndex((e) => isDefaultEntry(e) && e.method === m.name));
     });
     const swatch = document.createElement('span');
     swatch.className = 'swatch';
@@ -804,6 +821,89 @@ function buildEnsemble() {
     label.append(box, swatch, document.createTextNode(m.name));
     el.ensemble.append(label);
   }
+  renderEntries();
+}
+
+/** The colour of each ensemble entry, in state.ensemble's order. */
+const ensembleColors = () => entryColors(state.ensemble, PALETTE, colorOf);
+
+/** Adds entries (an equal triple already listed is skipped), refits. */
+function addEntries(entries) {
+  const keys = new Set(state.ensemble.map(entryKey));
+  for (const e of entries) if (!keys.has(entryKey(e))) { state.ensemble.push(e); keys.add(entryKey(e)); }
+  syncEnsembleBoxes();
+  renderEntries();
+  changed();
+}
+
+function removeEntry(i) {
+  if (i < 0 || i >= state.ensemble.length) return;
+  const [e] = state.ensemble.splice(i, 1);
+  ensembleFits.delete(entryKey(e));
+  syncEnsembleBoxes();
+  renderEntries();
+  changed();
+}
+
+function syncEnsembleBoxes() {
+  for (const box of el.ensemble.querySelectorAll('input')) {
+    const name = box.dataset.testid.slice('ensemble-'.length);
+    box.checked = state.ensemble.some((e) => isDefaultEntry(e) && e.method === name);
+  }
+}
+
+/** The list of entries: colour, label, remove button. */
+function renderEntries() {
+  el.entries.replaceChildren();
+  const colors = ensembleColors();
+  state.ensemble.forEach((e, i) => {
+    const li = document.createElement('li');
+    li.dataset.testid = `entry-${i}`;
+    const sw = document.createElement('span');
+    sw.className = 'swatch';
+    sw.style.background = colors[i];
+    const text = document.createElement('span');
+    text.className = 'entry-label';
+    text.textContent = entryLabel(e);
+    const remove = document.createElement('button');
+    remove.type = 'button';
+    remove.textContent = '×';
+    remove.title = 'remove this entry';
+    remove.dataset.testid = `entry-remove-${i}`;
+    remove.addEventListener('click', () => removeEntry(i));
+    li.append(sw, text, remove);
+    el.entries.append(li);
+  });
+}
+
+// The "add entry" form: a method, its options (the method form's generator on a draft) and α.
+let entryDraft = {};
+
+function buildEntryForm() {
+  const info = methodInfo(el.entryMethod.value);
+  entryDraft = {};
+  el.entryOptions.replaceChildren();
+  const setDraft = (name, value) => {
+    if (value === undefined) delete entryDraft[name];
+    else entryDraft[name] = value;
+  };
+  for (const opt of info?.options ?? []) {
+    const label = document.createElement('label');
+    label.className = 'opt';
+    label.title = opt.doc ?? '';
+    const name = document.createElement('span');
+    name.textContent = opt.name;
+    label.append(name, optionControl(opt, undefined, setDraft, 'entry-option'));
+    el.entryOptions.append(label);
+  }
+}
+
+/** The draft as an entry: the options set in the form (even to their default: "λ=1" is what
+ * the user asked to see) and α if given. */
+function draftEntry() {
+  const text = el.entryAlpha.value.trim();
+  const alpha = text === '' ? null : Number(text);
+  return makeEntry(el.entryMethod.value, entryDraft, Number.isFinite(alpha) ? alpha : null);
 }
 
 /** The α select (named parameterizations + a number) mirrors state.alpha. */
@@ -851,6 +951,9 @@ async function postBody(body) {
 }
 
 const postFit = (method, options) => postBody(requestBody(method, options));
+
+/** An ensemble entry's fit: the selected curve's data with the entry's method, options and α. */
+const postEntry = (e) => postBody(requestBody(e.method, e.options, e.alpha == null ? state : { ...state, alpha: e.alpha }));
 
 /**
  * Fits the visible curves other than the selected one, each with its own method and options,
@@ -903,10 +1006,11 @@ async function runFit() {
       ensembleFits.clear();
     } else {
       // One point is fitted too: the method's own "needs at least 2 points" is the message.
-      const names = [...state.ensemble].filter((n) => methodInfo(n));
+      // An entry of a method this server lacks is fitted too: its row shows the server's error.
+      const entries = [...state.ensemble];
       const [main, ...others] = await Promise.all([
         postFit(state.method, state.options),
-        ...names.map((n) => postFit(n, null)),
+        ...entries.map(postEntry),
       ]);
       // Another curve was selected meanwhile: these fits are not of its data.
       if (curveId !== selectedCurve().id) { fitPending = true; return; }
@@ -923,7 +1027,7 @@ async function runFit() {
       mainError = main.error ?? null;
       mainTiming = main.ms ?? null;
       ensembleFits.clear();
-      names.forEach((n, i) => ensembleFits.set(n, others[i]));
+      entries.forEach((e, i) => ensembleFits.set(entryKey(e), others[i]));
     }
     await othersDone;
     const drawStart = performance.now();
@@ -956,6 +1060,8 @@ function applyView() {
   renderPoints();
   renderKinds();
   renderComb();
+  renderOtherCombs();
+  renderReportMarks();
   renderControlPolygon();
   renderError(); // "show point" depends on what is in view
 }
@@ -1159,6 +1265,79 @@ function renderComb() {
   if (tips.length) el.layerComb.append(svg('polyline', { points: tips.map((p) => p.join(',')).join(' ') }));
 }
 
+/**
+ * With "combs of all curves": the comb of every other visible curve and ensemble entry, in its
+ * colour, at the selected curve's scale (one tooth length for one curvature everywhere, so the
+ * combs compare), teeth cut at twice the longest main tooth so that a spike stays readable.
+ */
+function renderOtherCombs() {
+  el.layerCombOthers.replaceChildren();
+  if (!state.combAll) return;
+  const fits = [
+    ...otherVisibleFits().map(({ c, i, fit }) => ({ fit, color: c.color, id: `curve-${i}` })),
+    ...ensembleRows().filter((r) => r.result.fit).map((r) => ({ fit: r.result.fit, color: r.color, id: r.id })),
+  ];
+  const sampled = fits.map((f) => ({ ...f, samples: sampleCurve(f.fit.segments, COMB_SAMPLES).filter((x) => x.kappa != null) }));
+  const base = mainFit ? sampleCurve(mainFit.segments, COMB_SAMPLES) : sampled.flatMap((f) => f.samples);
+  const kmax = Math.max(1e-300, ...base.filter((x) => x.kappa != null).map((x) => Math.abs(x.kappa)));
+  const scale = (COMB_MAX_PX * unit()) / kmax;
+  const cap = 2 * COMB_MAX_PX * unit();
+  for (const f of sampled) {
+    const g = svg('g', { stroke: f.color, 'data-testid': `comb-${f.id}` });
+    const tips = [];
+    for (const { pt, normal, kappa } of f.samples) {
+      const len = Math.max(-cap, Math.min(cap, kappa * scale));
+      const tip = [pt[0] - normal[0] * len, pt[1] - normal[1] * len];
+      tips.push(tip);
+      g.append(svg('line', { x1: pt[0], y1: pt[1], x2: tip[0], y2: tip[1] }));
+    }
+    if (tips.length) g.append(svg('polyline', { points: tips.map((p) => p.join(',')).join(' ') }));
+    el.layerCombOthers.append(g);
+  }
+}
+
+// ---------- report panel: the selected curve's method_report ----------
+
+let reportHover = null; // {node, spans} of the row under the pointer
+
+/** The panel, and the rings of its marked nodes on the canvas. */
+function renderReportPanel() {
+  renderMethodReport(el.methodReport, mainFit, (target) => { reportHover = target; renderReportMarks(); }, mainStale);
+  reportHover = null;
+  renderReportMarks();
+}
+
+/**
+ * Rings around the nodes the report marks (active bounds: G2 lost; Jaklič–Žagar maxima), at the
+ * fit's points (the report's indices are the fit's), and the node or spans of the hovered row.
+ */
+function renderReportMarks() {
+  el.layerReport.replaceChildren();
+  el.layerHighlight.replaceChildren();
+  if (!mainFit) return;
+  const u = unit();
+  el.layerReport.classList.toggle('stale', mainStale);
+  for (const { index, why } of markedNodes(mainFit)) {
+    const p = mainFit.points?.[index];
+    if (!p) continue;
+    const ring = svg('circle', { cx: p[0], cy: p[1], r: 1.9 * POINT_R_PX * u, class: `ring ${why}`, 'data-testid': `ring-${index}`, 'data-why': why });
+    const title = svg('title');
+    title.textContent = why === 'active' ? `point ${index}: the bound Ω holds (G2 lost)` : `point ${index}: an energy maximum of the direction`;
+    ring.append(title);
+    el.layerReport.append(ring);
+  }
+  const h = reportHover;
+  if (h?.node != null && mainFit.points?.[h.node]) {
+    const [x, y] = mainFit.points[h.node];
+    el.layerHighlight.append(svg('circle', { cx: x, cy: y, r: 2.8 * POINT_R_PX * u, 'data-testid': 'highlight', 'data-node': h.node }));
+  } else if (h?.spans) {
+    // Segments carry the input span they belong to; without it a segment is its span.
+    const spanOf = (s, k) => (s.span ?? k);
+    const segs = mainFit.segments.filter((s, k) => h.spans.includes(spanOf(s, k)));
+    if (segs.length) el.layerHighlight.append(svg('path', { d: pathData(segs), 'data-testid': 'highlight', 'data-spans': h.spans.join(',') }));
+  }
+}
+
 /** The control polygon p0–p1–p2–p3 of every segment of the main curve. */
 function renderControlPolygon() {
   el.layerControl.replaceChildren();
@@ -1170,34 +1349,109 @@ function renderControlPolygon() {
   }
 }
 
+/** The ensemble entries with their fits (or errors), labels, colours and test ids. A default
+ * entry keeps the ids a method's box always had (curve-NAME, kappa-NAME). */
+function ensembleRows() {
+  const colors = ensembleColors();
+  return state.ensemble.map((e, i) => ({
+    index: i, entry: e, label: entryLabel(e), color: colors[i], result: ensembleFits.get(entryKey(e)),
+    id: isDefaultEntry(e) ? e.method : `entry-${i}`,
+  })).filter((r) => r.result);
+}
+
+/** The other visible curves of the document with a fit: [{c, i, fit}]. */
+const otherVisibleFits = () => doc.curves.map((c, i) => ({ c, i, fit: otherFits.get(c.id)?.fit }))
+  .filter(({ c, i, fit }) => i !== doc.selected && c.visible && fit);
+
+/** κ against s, one line per visible curve: the document's other curves, the selected one and
+ * its ensemble entries. */
 function renderPlot() {
   el.plot.toggleAttribute('hidden', !state.plot); // an <svg> has no .hidden property
   if (!state.plot) return;
   const curves = [];
   const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(4, Math.ceil(PLOT_SAMPLES / segments.length))));
-  if (mainFit) curves.push({ name: mainFit.method, color: 'var(--fg)', main: true, stale: mainStale, samples: samples(mainFit.segments) });
-  for (const [name, r] of ensembleFits) {
-    if (r.fit) curves.push({ name, color: colorOf(name), main: false, samples: samples(r.fit.segments) });
+  for (const { c, i, fit } of otherVisibleFits()) {
+    curves.push({ name: `curve-${i}`, label: c.name, color: c.color, main: false, samples: samples(fit.segments) });
+  }
+  if (mainFit) curves.push({ name: mainFit.method, label: selectedCurve().name, color: 'var(--fg)', main: true, stale: mainStale, samples: samples(mainFit.segments) });
+  for (const r of ensembleRows()) {
+    if (r.result.fit) curves.push({ name: r.id, label: r.label, color: r.color, main: false, samples: samples(r.result.fit.segments) });
   }
   renderCurvaturePlot(el.plot, curves);
 }
 
+// The energies table's columns: its sort key reads a fit's report (null: not a number).
+const TABLE_COLUMNS = [
+  { key: 'label', head: 'curve', value: (row) => row.label },
+  { key: 'bending', head: 'bending energy', value: (row) => row.report?.bending_energy },
+  { key: 'linearized', head: 'linearized energy', value: (row) => row.report?.linearized_energy },
+  { key: 'length', head: 'length', value: (row) => row.report?.length },
+  { key: 'regular', head: 'regular', value: (row) => (row.report?.regular == null ? null : row.report.regular ? 1 : 0) },
+  { key: 'jump', head: 'max curvature jump', value: (row) => row.report?.max_curvature_jump },
+];
+let tableSort = null; // {key, dir: 1 | -1}; null: the main curve, then the entries in their order
+
+/** The header: a click sorts by the column (again: the other way). */
+function buildTableHead() {
+  const tr = document.createElement('tr');
+  for (const col of TABLE_COLUMNS) {
+    const th = document.createElement('th');
+    th.dataset.testid = `sort-${col.key}`;
+    th.className = 'sortable';
+    th.title = 'sort by this column';
+    const mark = tableSort?.key === col.key ? (tableSort.dir > 0 ? ' ▲' : ' ▼') : '';
+    th.textContent = `${col.head}${mark}`;
+    th.addEventListener('click', () => {
+      tableSort = { key: col.key, dir: tableSort?.key === col.key ? -tableSort.dir : 1 };
+      buildTableHead();
+      renderTable();
+    });
+    tr.append(th);
+  }
+  el.tableHead.replaceChildren(tr);
+}
+
+/** Rows sorted by tableSort: numbers (or labels) in its direction, failures always last. */
+function sortRows(rows) {
+  if (!tableSort) return rows;
+  const col = TABLE_COLUMNS.find((c) => c.key === tableSort.key);
+  const failed = rows.filter((r) => !r.report);
+  const ok = rows.filter((r) => r.report);
+  const cmp = (a, b) => {
+    const x = col.value(a), y = col.value(b);
+    if (typeof x === 'string') return tableSort.dir * x.localeCompare(y);
+    const nx = Number.isFinite(x) ? x : Infinity, ny = Number.isFinite(y) ? y : Infinity;
+    return nx === ny ? 0 : tableSort.dir * (nx < ny ? -1 : 1);
+  };
+  return [...ok.sort(cmp), ...failed];
+}
+
+/** The energies table: the selected curve (main) and each ensemble entry; a failure is a row
+ * with its message. */
 function renderTable() {
   el.table.replaceChildren();
   const rows = [];
-  if (mainFit || mainError) rows.push([`${state.method} (main)`, mainError ? { error: mainError } : { fit: mainFit }, state.method]);
-  for (const [name, result] of ensembleFits) rows.push([name, result, name]);
-  for (const [label, result, name] of rows) {
+  if (mainFit || mainError) {
+    rows.push({ testid: 'row-main', method: state.method, label: `${state.method} (main)`, color: 'var(--fg)',
+      report: mainError ? null : mainFit.report ?? {}, error: mainError });
+  }
+  for (const r of ensembleRows()) {
+    rows.push({ testid: `row-entry-${r.index}`, method: r.entry.method, label: r.label, color: r.color,
+      report: r.result.fit ? r.result.fit.report ?? {} : null, error: r.result.error });
+  }
+  for (const row of sortRows(rows)) {
     const tr = document.createElement('tr');
-    tr.dataset.method = name;
+    tr.dataset.method = row.method;
+    tr.dataset.testid = row.testid;
+    tr.dataset.label = row.label;
     const head = document.createElement('td');
     const sw = document.createElement('span');
     sw.className = 'swatch';
-    sw.style.background = label.endsWith('(main)') ? 'var(--fg)' : colorOf(name);
-    head.append(sw, document.createTextNode(` ${label}`));
+    sw.style.background = row.color;
+    head.append(sw, document.createTextNode(` ${row.label}`));
     tr.append(head);
-    if (result.fit) {
-      const r = result.fit.report ?? {};
+    if (row.report) {
+      const r = row.report;
       for (const v of [r.bending_energy, r.linearized_energy, r.length, r.regular == null ? '—' : (r.regular ? 'yes' : 'no'), r.max_curvature_jump]) {
         const td = document.createElement('td');
         td.textContent = fmt(v);
@@ -1207,7 +1461,7 @@ function renderTable() {
       const td = document.createElement('td');
       td.colSpan = 5;
       td.className = 'err';
-      td.textContent = result.error?.message ?? 'failed';
+      td.textContent = row.error?.message ?? 'failed';
       tr.append(td);
     }
     el.table.append(tr);
@@ -1230,19 +1484,22 @@ function render() {
   doc.curves.forEach((c, i) => {
     if (i !== doc.selected && c.visible && otherFits.get(c.id)?.fit) addLegend(`${c.name}: ${c.method}`, c.color);
   });
-  for (const [name, result] of ensembleFits) {
-    if (!result.fit) continue;
-    const color = colorOf(name);
-    el.layerEnsemble.append(svg('path', { d: pathData(result.fit.segments), stroke: color, 'data-testid': `curve-${name}` }));
-    addLegend(name, color);
+  for (const r of ensembleRows()) {
+    if (!r.result.fit) continue;
+    el.layerEnsemble.append(svg('path', {
+      d: pathData(r.result.fit.segments), stroke: r.color, 'data-testid': `curve-${r.id}`, 'data-entry': r.index, 'data-label': r.label,
+    }));
+    addLegend(r.label, r.color);
   }
   renderError();
   renderReport();
   renderPoints();
   renderComb();
+  renderOtherCombs();
   renderControlPolygon();
   renderPlot();
   renderTable();
+  renderReportPanel();
 }
 
 /** One line under the plot: the main curve's numbers and how long the fit took. */
@@ -1544,7 +1801,7 @@ function exportSvgText() {
   }
   // The last good curve of an earlier state is not this document's curve.
   if (mainShown && mainFit && !mainStale) curves.push({ fit: mainFit, color: '#1d2330', width: 2.5, name: selectedCurve().name });
-  if (mainShown) for (const [name, r] of ensembleFits) if (r.fit) curves.push({ fit: r.fit, color: colorOf(name), width: 1.6 });
+  if (mainShown) for (const r of ensembleRows()) if (r.result.fit) curves.push({ fit: r.result.fit, color: r.color, width: 1.6 });
   for (const c of curves) for (const s of c.fit.segments) s.bezier.forEach(addPt);
   const shown = (on, layer) => (mainShown && on && !mainStale ? [...layer.children] : []);
   const comb = shown(state.comb, el.layerComb).filter((node) => node.tagName === 'line');
@@ -1634,7 +1891,10 @@ function projectText() {
   const project = {
     format: PROJECT_FORMAT, version: PROJECT_VERSION, selected: doc.selected, curves,
     view: { x: state.view.x, y: state.view.y, w: state.view.w },
-    display: { ensemble: [...state.ensemble], comb: state.comb, polygon: state.polygon, plot: state.plot },
+    display: {
+      ensemble: state.ensemble.map(entryToProject), comb: state.comb, polygon: state.polygon, plot: state.plot,
+      ...(state.combAll ? { combAll: true } : {}),
+    },
   };
   return `${JSON.stringify(project, null, 1)}\n`;
 }
@@ -1663,8 +1923,9 @@ function openProject(text, source) {
   doc.selected = project.selected;
   otherFits.clear();
   if (project.display) {
-    state.ensemble = new Set(project.display.ensemble);
-    Object.assign(state, { comb: project.display.comb, polygon: project.display.polygon, plot: project.display.plot });
+    state.ensemble = entriesFrom(project.display.ensemble);
+    const { comb, combAll, polygon, plot } = project.display;
+    Object.assign(state, { comb, combAll, polygon, plot });
     syncControls();
     buildEnsemble();
   }
@@ -1858,6 +2119,10 @@ el.radius.addEventListener('change', () => {
 });
 el.polygon.addEventListener('change', () => { state.polygon = el.polygon.checked; renderControlPolygon(); saveHash(); });
 el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderComb(); saveHash(); });
+el.combAll.addEventListener('change', () => { state.combAll = el.combAll.checked; renderOtherCombs(); saveHash(); });
+el.entryMethod.addEventListener('change', buildEntryForm);
+$('entry-add').addEventListener('click', () => addEntries([draftEntry()]));
+$('preset-fig7').addEventListener('click', () => addEntries(FIG7_PRESET.map((e) => makeEntry(e.method, e.options, e.alpha))));
 el.plotToggle.addEventListener('change', () => { state.plot = el.plotToggle.checked; renderPlot(); saveHash(); });
 $('zoom-in').addEventListener('click', () => zoomCenter(1.25));
 $('zoom-out').addEventListener('click', () => zoomCenter(0.8));
@@ -1873,6 +2138,7 @@ el.errorShow.addEventListener('click', () => {
 function syncControls() {
   el.closed.checked = state.closed;
   el.comb.checked = state.comb;
+  el.combAll.checked = state.combAll;
   el.polygon.checked = state.polygon;
   el.plotToggle.checked = state.plot;
   syncAlphaControl();
@@ -1918,7 +2184,10 @@ async function start() {
   for (const m of methodsInOrder()) {
     el.method.add(new Option(methodLabel(m), m.name));
     $('method-names').append(new Option(m.name));
+    el.entryMethod.add(new Option(m.name, m.name));
   }
+  buildEntryForm();
+  buildTableHead();
   el.method.value = state.method;
   buildOptionsForm();
   buildEnsemble();

@@ -237,8 +237,10 @@ export function parseProject(text) {
   const view = v && [v.x, v.y, v.w].every((x) => typeof x === 'number' && Number.isFinite(x)) && v.w > 0 ? { x: v.x, y: v.y, w: v.w } : null;
   const d = data.display && typeof data.display === 'object' ? data.display : null;
   const display = d ? {
-    ensemble: Array.isArray(d.ensemble) ? d.ensemble.filter((m) => typeof m === 'string') : [],
-    comb: !!d.comb, polygon: !!d.polygon, plot: d.plot !== false,
+    // A method name (a default entry) or {method, options?, alpha?}: read by entries.js.
+    ensemble: Array.isArray(d.ensemble) ? d.ensemble.filter((m) => typeof m === 'string'
+      || (m && typeof m === 'object' && typeof m.method === 'string')) : [],
+    comb: !!d.comb, combAll: !!d.combAll, polygon: !!d.polygon, plot: d.plot !== false,
   } : null;
   return { curves, selected, view, display };
 }

@@ -14,7 +14,7 @@ function node(tag, attrs = {}, text = null) {
 const short = (v) => Number(v.toPrecision(3)).toString();
 
 /**
- * curves: [{name, color, main, stale, samples}] with samples from sampleCurve() (stale: the last
+ * curves: [{name, label?, color, main, stale, samples}] with samples from sampleCurve() (stale: the last
  * good fit of data that now fail, drawn dimmed). Replaces the
  * content of `svgEl`. Samples whose curvature is undefined (zero speed) break the line.
  */
@@ -67,6 +67,8 @@ export function renderCurvaturePlot(svgEl, curves) {
       pen = true;
     }
     const cls = [c.main ? 'main' : '', c.stale ? 'stale' : ''].filter(Boolean).join(' ');
-    svgEl.append(node('path', { d, stroke: c.color, class: cls, 'clip-path': `url(#${clipId})`, 'data-testid': `kappa-${c.name}` }));
+    const line = node('path', { d, stroke: c.color, class: cls, 'clip-path': `url(#${clipId})`, 'data-testid': `kappa-${c.name}` });
+    if (c.label) line.append(node('title', {}, c.label));
+    svgEl.append(line);
   }
 }
