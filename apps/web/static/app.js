@@ -53,7 +53,7 @@ const el = {
   entries: $('ensemble-entries'), entryForm: $('entry-form'), entryMethod: $('entry-method'),
   entryOptions: $('entry-options'), entryAlpha: $('entry-alpha'), tableHead: $('ensemble-table').tHead,
   methodReport: $('method-report'), layerReport: $('layer-report'), layerHighlight: $('layer-highlight'),
-  combAll: $('comb-all'), layerCombOthers: $('layer-comb-others'),
+  combAll: $('comb-all'), layerCombOthers: $('layer-comb-others'), reportPanel: $('report-panel'),
 };
 
 const state = {
@@ -1299,9 +1299,23 @@ function renderOtherCombs() {
 // ---------- report panel: the selected curve's method_report ----------
 
 let reportHover = null; // {node, spans} of the row under the pointer
+let reportQueued = false;
+
+/**
+ * The panel is rebuilt in a task after the fit is drawn: its tables (a row per node at 200
+ * points) must not delay the curve on screen during a drag. A collapsed panel is left alone
+ * until it is opened again. The rings are drawn at once.
+ */
+function scheduleReportPanel() {
+  renderReportMarks();
+  if (reportQueued) return;
+  reportQueued = true;
+  setTimeout(() => { reportQueued = false; renderReportPanel(); }, 0);
+}
 
 /** The panel, and the rings of its marked nodes on the canvas. */
 function renderReportPanel() {
+  if (!el.reportPanel.open) return;
   renderMethodReport(el.methodReport, mainFit, (target) => { reportHover = target; renderReportMarks(); }, mainStale);
   reportHover = null;
   renderReportMarks();
@@ -1499,7 +1513,7 @@ function render() {
   renderControlPolygon();
   renderPlot();
   renderTable();
-  renderReportPanel();
+  scheduleReportPanel();
 }
 
 /** One line under the plot: the main curve's numbers and how long the fit took. */
@@ -2119,6 +2133,7 @@ el.radius.addEventListener('change', () => {
 });
 el.polygon.addEventListener('change', () => { state.polygon = el.polygon.checked; renderControlPolygon(); saveHash(); });
 el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderComb(); saveHash(); });
+el.reportPanel.addEventListener('toggle', renderReportPanel);
 el.combAll.addEventListener('change', () => { state.combAll = el.combAll.checked; renderOtherCombs(); saveHash(); });
 el.entryMethod.addEventListener('change', buildEntryForm);
 $('entry-add').addEventListener('click', () => addEntries([draftEntry()]));
