@@ -8,7 +8,7 @@ const fmt = (v) => {
   if (typeof v === 'number') return Number.isFinite(v) ? Number(v.toPrecision(5)).toString() : String(v);
   if (typeof v === 'boolean') return v ? 'yes' : 'no';
   if (v == null) return '—';
-  if (Array.isArray(v)) return v.map(fmt).join(', ');
+  if (Array.isArray(v)) return v.length ? v.map(fmt).join(', ') : 'none';
   if (typeof v === 'object') return Object.entries(v).map(([k, x]) => `${k}: ${fmt(x)}`).join(', ');
   return String(v);
 };
@@ -16,7 +16,7 @@ const fmt = (v) => {
 // Readable labels of the top-level (and solver / balls) values; a "_deg" field is in degrees.
 const LABELS = {
   status: 'solver status', iterations: 'iterations', projected_gradient: 'projected gradient',
-  energy: 'energy ∫κ² ds', omega_deg: 'bound Ω', pieces: 'pieces (split at corners)',
+  energy: 'energy ∫κ² ds', omega_deg: 'bound Ω', pieces: 'pieces',
   search: 'search', bezier_accuracy: 'Bézier accuracy (of the elastica arcs)',
   'solver.status': 'solver › status', 'solver.iterations': 'solver › iterations',
   'solver.residual': 'solver › residual', 'solver.tolerance': 'solver › tolerance',
