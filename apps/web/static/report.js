@@ -16,7 +16,7 @@ const fmt = (v) => {
 // Readable labels of the top-level (and solver / balls) values; a "_deg" field is in degrees.
 const LABELS = {
   status: 'solver status', iterations: 'iterations', projected_gradient: 'projected gradient',
-  energy: 'energy ∫κ² ds', omega_deg: 'bound Ω', pieces: 'pieces',
+  omega_deg: 'bound Ω', pieces: 'pieces',
   search: 'search', bezier_accuracy: 'Bézier accuracy (of the elastica arcs)',
   'solver.status': 'solver › status', 'solver.iterations': 'solver › iterations',
   'solver.residual': 'solver › residual', 'solver.tolerance': 'solver › tolerance',
@@ -45,6 +45,11 @@ function el(tag, attrs = {}, text = null) {
 }
 
 const label = (key) => LABELS[key] ?? key.replace(/\./g, ' › ').replace(/_/g, ' ');
+
+// method_report.energy is the method's own objective: the exact ∫κ² ds only for the elastic
+// splines; the min-energy family's Σ E₁(α, β)/L is in its basis's units (docs/methods/min-energy.md).
+const energyLabel = (method) => (/elastic$/.test(method) && method !== 'quasi-elastic'
+  ? 'energy ∫κ² ds (exact elastica)' : 'energy Σ E₁(α, β)/L (the method\'s objective)');
 const withUnit = (key, v) => (key.endsWith('_deg') && typeof v === 'number' ? `${fmt(v)}°` : fmt(v));
 
 /** The summary rows: scalars, short lists and one level of nested objects (solver, balls,
@@ -188,7 +193,7 @@ export function renderMethodReport(container, fit, onHover, stale = false) {
   container.append(head);
   const dl = el('dl', { class: 'mr-summary', 'data-testid': 'mr-summary' });
   for (const [key, v] of summaryRows(r)) {
-    const dt = el('dt', {}, label(key));
+    const dt = el('dt', {}, key === 'energy' ? energyLabel(fit.method) : label(key));
     dt.title = key;
     dl.append(dt, el('dd', { 'data-key': key }, withUnit(key, v)));
   }
