@@ -4,7 +4,7 @@
 // errors, the last good curve kept through an error, and the smaller ones (one point, undoable
 // settings, hashchange, comb colour, SVG view box, reversal=insert). Headless Debian chromium;
 // screenshots go to FAIRSPLINE_E2E_OUT.
-import { check, eventually, hashOf, out, run, trackFits, waitForPieces } from './harness.mjs';
+import { check, eventually, hashOf, out, run, trackFits, waitForPieces, section } from './harness.mjs';
 
 const FIVE = [[150, 200], [300, 450], [500, 300], [700, 500], [850, 250]];
 const LI = [[1, 90], [3, 105], [6, 120], [10, 100], [12, 85], [15, 104], [17, 80]]; // examples/li-example1.csv
@@ -37,16 +37,6 @@ const errorText = async (page) => (await page.isVisible(sel('error')) ? page.tex
 await run(async ({ page, url }) => {
   const { requests, settled } = trackFits(page);
   page.setDefaultTimeout(10000);
-  /** Runs one bug's checks; a wait that times out fails that bug only. */
-  const section = async (name, body) => {
-    const started = Date.now();
-    try {
-      await body();
-    } catch (e) {
-      check(false, `${name}: ${String(e.message).split('\n')[0]}`);
-    }
-    console.log(`info: ${name} took ${((Date.now() - started) / 1000).toFixed(1)} s`);
-  };
   /** Runs `action` and waits for the fits it causes: one sent at least, then none for 300 ms
    * (settled() alone can return before the first request of an action is seen). */
   const fitted = async (action) => {

@@ -64,6 +64,18 @@ export async function run(body) {
 }
 
 /** Number of cubic pieces in a path's data. */
+/** Runs one section of a test's checks: a wait that times out (or any throw) fails that section
+ * only, and its duration is printed. */
+export async function section(name, body) {
+  const started = Date.now();
+  try {
+    await body();
+  } catch (e) {
+    check(false, `${name}: ${String(e.message).split('\n')[0]}`);
+  }
+  console.log(`info: ${name} took ${((Date.now() - started) / 1000).toFixed(1)} s`);
+}
+
 export const cubics = (d) => (d?.match(/C/g) ?? []).length;
 
 /** Waits until the main curve of `method` has `n` cubic pieces. */

@@ -7,7 +7,7 @@
 import { execFileSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
-import { check, eventually, hashOf, out, run, trackFits, waitForPieces } from './harness.mjs';
+import { check, eventually, hashOf, out, run, trackFits, waitForPieces, section } from './harness.mjs';
 
 const repoFile = (path) => fileURLToPath(new URL(`../../../${path}`, import.meta.url));
 const sel = (testid) => `[data-testid="${testid}"]`;
@@ -24,15 +24,6 @@ const sameSet = (a, b) => a.length === b.length && [...a].sort((x, y) => x - y).
 await run(async ({ page, url }) => {
   const { requests, settled } = trackFits(page);
   page.setDefaultTimeout(10000);
-  const section = async (name, body) => {
-    const started = Date.now();
-    try {
-      await body();
-    } catch (e) {
-      check(false, `${name}: ${String(e.message).split('\n')[0]}`);
-    }
-    console.log(`info: ${name} took ${((Date.now() - started) / 1000).toFixed(1)} s`);
-  };
   const open = async (state) => {
     await page.goto(url + (state ? hashOf(state) : ''));
     await page.reload();
