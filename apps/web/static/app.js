@@ -1921,16 +1921,21 @@ function saveProject() {
 
 $('save-project').addEventListener('click', saveProject);
 
-/** Replaces the document by a project file's (one undo step); a bad file changes nothing. */
-function openProject(text, source) {
-  let project;
+/** `parse(text)`, or null with its error shown as the import's (naming `source`). */
+function parsedOrShown(parse, text, source) {
   try {
-    project = parseProject(text);
+    return parse(text);
   } catch (e) {
     importError = `${source}: ${e.message}`;
     renderError();
-    return;
+    return null;
   }
+}
+
+/** Replaces the document by a project file's (one undo step); a bad file changes nothing. */
+function openProject(text, source) {
+  const project = parsedOrShown(parseProject, text, source);
+  if (!project) return;
   pushHistory();
   doc.curves = [];
   for (const c of project.curves) doc.curves.push({ ...c, id: nextCurveId++, color: c.color ?? freeColor() });
@@ -1998,14 +2003,8 @@ function withoutDefaults(method, options) {
  */
 function importText(text, source) {
   if (isProject(text)) { openProject(text, source); return; }
-  let parsed;
-  try {
-    parsed = parseImport(text);
-  } catch (e) {
-    importError = `${source}: ${e.message}`;
-    renderError();
-    return;
-  }
+  const parsed = parsedOrShown(parseImport, text, source);
+  if (!parsed) return;
   pushHistory();
   const name = source === 'pasted text' ? null : source.replace(/\.[^.]*$/, '');
   if (state.points.length) {
