@@ -1031,7 +1031,15 @@ void sweep_cells(double a, double b, int n, Sweep& sw) {
 /// Samples [ua, ub] in cells at most h wide, at least kMinCells of them.
 void sweep(double ua, double ub, double h, Sweep& sw) {
   sw.clear();
-  const int n = static_cast<int>(std::clamp(std::ceil((ub - ua) / h), double{kMinCells}, 1e7));
+  const double cells = std::ceil((ub - ua) / h);
+  // NaN here (an empty range over a zero cell width) was found by fuzz_fit; a cast of NaN to int
+  // is undefined.
+  if (std::isnan(cells)) {
+    throw Error(ErrorCode::kNonFinite,
+                "elastica: a piece's arc could not be sampled (its parameter range or the "
+                "approximation's cell width is degenerate)");
+  }
+  const int n = static_cast<int>(std::clamp(cells, double{kMinCells}, 1e7));
   const double s = std::sin(ua), c = std::cos(ua), w = std::sqrt(1.0 + s * s);
   sw.u.push_back(ua);
   sw.pos.push_back({0.0, 0.0});
