@@ -768,20 +768,23 @@ function applyCapabilities() {
   el.closed.closest('label').title = caps.closed ? '' : `${state.method} draws open curves only`;
 }
 
+/** An option's row of a form: its name (documentation on hover) and its control. */
+function optionRow(opt, control) {
+  const label = document.createElement('label');
+  label.className = 'opt';
+  label.title = opt.doc ?? '';
+  const name = document.createElement('span');
+  name.textContent = opt.name;
+  label.append(name, control);
+  return label;
+}
+
 function buildOptionsForm() {
   applyCapabilities();
   const info = methodInfo(state.method);
   el.methodDesc.textContent = info ? `${info.description}${info.paper ? ` — ${info.paper}` : ''}` : '';
   el.options.replaceChildren();
-  for (const opt of info?.options ?? []) {
-    const label = document.createElement('label');
-    label.className = 'opt';
-    label.title = opt.doc ?? '';
-    const name = document.createElement('span');
-    name.textContent = opt.name;
-    label.append(name, optionControl(opt));
-    el.options.append(label);
-  }
+  for (const opt of info?.options ?? []) el.options.append(optionRow(opt, optionControl(opt)));
 }
 
 /**
@@ -888,13 +891,7 @@ function buildEntryForm() {
     else entryDraft[name] = value;
   };
   for (const opt of info?.options ?? []) {
-    const label = document.createElement('label');
-    label.className = 'opt';
-    label.title = opt.doc ?? '';
-    const name = document.createElement('span');
-    name.textContent = opt.name;
-    label.append(name, optionControl(opt, undefined, setDraft, 'entry-option'));
-    el.entryOptions.append(label);
+    el.entryOptions.append(optionRow(opt, optionControl(opt, undefined, setDraft, 'entry-option')));
   }
 }
 
