@@ -791,6 +791,35 @@ TEST(Elastica, BezierApproximationOfExtremeUTurns) {
   }
 }
 
+TEST(Elastica, NearlyStraightPiecesAreTheSegmentWithRegularCubics) {
+  // At angles of a few 1e-16 the canonical arc is a few spacings of doubles wide and was solved
+  // as u0 = u1: cubics with a zero handle, whose end direction was rounding (a data-ball fit
+  // pressing three points onto a line gave a 0.28° kink). Every piece near the chord is regular,
+  // with its end directions exact to rounding, and its energy the small-angle one.
+  const Point p0{0.0, 0.0}, p1{1.0, 0.3};
+  const double L = distance(p0, p1);
+  for (double la = -16.0; la <= -6.0; la += 0.1) {
+    for (double f = -1.0; f <= 1.0001; f += 0.05) {
+      const double a = std::pow(10.0, la), b = a * f * (1.0 + 1e-3 * std::sin(7.0 * la));
+      const ElasticaArc arc = elastica_arc(p0, p1, a, b);
+      if (arc.kind == ElasticaArc::Kind::kElastica) {
+        EXPECT_LT(arc.u0, arc.u1) << a << " " << b;
+      }
+      EXPECT_NEAR(arc.unit_energy, 4.0 * (a * a + a * b + b * b), 1e-6 * 4.0 * a * a);
+      const std::vector<CubicBezier> bz = elastica_to_beziers(arc, 1e-9);
+      for (const CubicBezier& c : bz) {
+        const double chord = distance(c.p[0], c.p[3]);
+        EXPECT_GE(std::min(distance(c.p[0], c.p[1]), distance(c.p[2], c.p[3])), 0.05 * chord)
+            << a << " " << b;
+      }
+      const Vec2 u = (p1 - p0) / L;
+      const Vec2 d0 = (bz.front().p[1] - bz.front().p[0]), d1 = (bz.back().p[3] - bz.back().p[2]);
+      EXPECT_NEAR(std::atan2(cross(u, d0), dot(u, d0)), a, 1e-14) << a << " " << b;
+      EXPECT_NEAR(std::atan2(cross(u, d1), dot(u, d1)), b, 1e-14) << a << " " << b;
+    }
+  }
+}
+
 TEST(Elastica, FourthDerivativeBoundOfTheCanonicalCurve) {
   // elastica.cpp bounds the Hermite remainder of the canonical curve p(u) = (√2 sin u, X(u))
   // with |p''''| ≤ 6: x'''' = √2 sin u, X'''' = √2 s c (−s⁶ − 4s⁴ + 7s² − 20)/(1 + s²)^{7/2}

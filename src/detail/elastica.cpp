@@ -27,6 +27,11 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kSqrt2 = std::numbers::sqrt2;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+/// Angles (rad) up to which a piece is the straight segment: 50 times the largest at which a scan
+/// of (α, β) found the canonical arc unresolved (u0 = u1, 2e-15), and a deviation from the chord
+/// (a/4 of its length) below the finest Bézier accuracy, 1e-13.
+constexpr double kStraightAngle = 1e-13;
 /// X(π/2) = 2E(1/√2) − K(1/√2) = π / (2K(1/√2)): the along-axis extent of a quarter wave.
 constexpr double kXHalf = 0.84721308479397908660649912348219;
 /// Arc length of a quarter wave, √2 ∫_0^{π/2} dv/√(1 + sin²v) = K(1/√2).
@@ -854,11 +859,12 @@ ElasticaArc make_arc(Point p0, Point p1, double alpha, double beta, const Reduct
 ElasticaArc elastica_arc(Point p0, Point p1, double alpha, double beta, const ElasticaHint* hint) {
   check_points(p0, p1);
   const Reduction r = reduce(alpha, beta);
-  // Within eps of the chord the piece deviates from it by at most a/4 of its length (the
-  // small-deflection beam, |y| <= a x(1 − x)): the straight segment, to double precision. The
-  // arc is also unsolvable there: with b near −a it is centred on the apex u = −π/2 and √2·a
-  // wide, below the spacing of doubles at π/2 (issue 18: a span beside a near-repeated point).
-  if (r.k.a <= kEps) {
+  // Within kStraightAngle of the chord the piece deviates from it by at most a/4 of its length
+  // (the small-deflection beam, |y| <= a x(1 − x)), below every Bézier accuracy: the straight
+  // segment. The arc is also unsolvable there: with b near −a it is centred on the apex
+  // u = −π/2 and √2·a wide, a few spacings of doubles at π/2 (a span beside a near-repeated
+  // point; data balls pressing three points onto a line).
+  if (r.k.a <= kStraightAngle) {
     ElasticaArc arc;
     arc.p0 = p0;
     arc.p1 = p1;
@@ -1485,7 +1491,7 @@ std::vector<CubicBezier> elastica_to_beziers(const ElasticaArc& arc, double accu
   const Vec2 chord_w = arc.p1 - arc.p0;
   const double L = norm(chord_w);
   const Vec2 d_start = rotate(chord_w / L, arc.alpha), d_end = rotate(chord_w / L, arc.beta);
-  if (arc.kind == ElasticaArc::Kind::kStraight)  // (angles 0, or below 1e-150)
+  if (arc.kind == ElasticaArc::Kind::kStraight)  // (angles up to kStraightAngle)
     return {{{arc.p0, arc.p0 + (L / 3.0) * d_start, arc.p1 - (L / 3.0) * d_end, arc.p1}}};
   // Canonical pieces in canonical order. Parts split at the inflection only where both sides
   // are substantial: a sliver of a cubic would have handles too short for its directions to

@@ -473,9 +473,11 @@ constexpr double kCrossOver = 1e-3;
 /// A KKT residual the optimizer may stop at when no step lowers the energy any more.
 constexpr double kConditioningResidual = 1e-6;
 
-/// The elastic spline: the output interpolation's directions agree with the optimizer's to this
-/// angle (rad), or the optimizer goes on from them, at most kOutputRounds times.
+/// The output interpolation's directions agree with the optimizer's to this angle (rad), and
+/// the interpolation from its own start finds no energy lower by this fraction, or the
+/// optimizer goes on from its directions, at most kOutputRounds times.
 constexpr double kOutputAgreement = 1e-6;
+constexpr double kOutputEnergy = 1e-10;
 constexpr int kOutputRounds = 3;
 
 class Solver {
@@ -1194,6 +1196,45 @@ bool has_data_balls(const FitInput& input) {
   return std::any_of(input.radii.begin(), input.radii.end(), [](double r) { return r != 0.0; });
 }
 
+namespace {
+
+/// The first ball beside a span of `rep` on its pair bound where a move of 1e-5 of its radius
+/// (along its circle, or inwards or outwards where the disc allows) lowers the interpolation's
+/// energy by more than `drop`.
+std::optional<std::size_t> descent_beside_half_turns(const Problem& pb, const FitInput& at,
+                                                     const MinEnergyOptions& options,
+                                                     const MinEnergyReport& rep, double drop) {
+  for (std::size_t s : rep.active_spans) {
+    for (std::size_t i : {s, pb.next(s)}) {
+      const Node& nd = pb.node[i];
+      if (nd.r == 0.0) continue;
+      const Vec2 off = nd.p - nd.q;
+      const double d = norm(off);
+      const Vec2 radial = d > 0.0 ? off / d : Vec2{1.0, 0.0};
+      const Vec2 along{-radial.y, radial.x};
+      const double h = 1e-5 * nd.r;
+      for (const Vec2 step : {along, -along, radial, -radial}) {
+        FitInput moved = at;
+        const Point p = nd.p + h * step;
+        if (distance(p, nd.q) > nd.r) continue;
+        moved.points[i] = p;
+        if (i == 0 && moved.points.size() > pb.node.size()) moved.points.back() = p;
+        FitResult scratch;
+        MinEnergyReport e;
+        try {
+          fit_min_energy_at(moved, options, ReportLevel::kNone, scratch, &e, nullptr, nullptr);
+        } catch (const Error&) {
+          continue;
+        }
+        if (e.energy < rep.energy - drop) return i;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
                     FitResult& out, MinEnergyReport* report) {
   // The elastic spline: first the restricted elastic one (the same energy within |α|, |β| <=
@@ -1385,6 +1426,9 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   FitInput moved = input;
   moved.radii.clear();
   MinEnergyReport rep;
+  // The energy of every span turning by a radian: the scale below which energies are rounding.
+  double unit_turns = 0.0;
+  for (double l : st.len) unit_turns += 1.0 / l;
   for (int round = 0;; ++round) {
     for (std::size_t i = 0; i < n; ++i) moved.points[i] = pb.node[i].p;
     if (moved.points.size() > n) moved.points[n] = pb.node[0].p;  // a closed curve's repeat
@@ -1392,13 +1436,29 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     SpanDirections got;
     rep = MinEnergyReport{};
     fit_min_energy_at(moved, options, level, out, &rep, &best, &got);
-    if (pb.m.basis != MinEnergyBasis::kElastic) break;
+    // The directions can have several local minima at the same positions: where the
+    // interpolation's own start finds a lower one (what a refit of the result gives), the
+    // optimizer goes on from it.
+    const MinEnergyReport* target = &rep;
+    MinEnergyReport fresh;
+    SpanDirections fresh_got;
+    try {
+      FitResult scratch;
+      fit_min_energy_at(moved, options, ReportLevel::kNone, scratch, &fresh, nullptr, &fresh_got);
+      if (fresh.energy < rep.energy - kOutputEnergy * (std::abs(rep.energy) + unit_turns)) {
+        target = &fresh;
+        got = std::move(fresh_got);
+      }
+    } catch (const Error&) {
+      // Not a lower minimum: the optimum's directions are feasible here.
+    }
+    if (target == &rep && pb.m.basis != MinEnergyBasis::kElastic) break;
     // A span the interpolation puts on its pair bound |α − β| = π is one the optimizer holds
     // just inside it by the barrier: its directions differ by the barrier's margin, and the
     // bound itself would be outside the barrier's domain. Its slots are neither compared nor
     // taken.
     std::vector<char> on_pair(ns, 0);
-    for (std::size_t s : rep.active_spans) {
+    for (std::size_t s : target->active_spans) {
       if (s < ns) on_pair[s] = 1;
     }
     std::vector<char> keep(pb.slot.size(), 0);
@@ -1407,8 +1467,8 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       keep[static_cast<std::size_t>(pb.node[s].out)] = 1;
       keep[static_cast<std::size_t>(pb.node[pb.next(s)].in)] = 1;
     }
-    double moved_by = 0.0;
-    for (std::size_t s = 0; s < ns && s < got.size(); ++s) {
+    double moved_by = target == &rep ? 0.0 : HUGE_VAL;
+    for (std::size_t s = 0; s < ns && s < got.size() && target == &rep; ++s) {
       if (keep[static_cast<std::size_t>(pb.node[s].out)] ||
           keep[static_cast<std::size_t>(pb.node[pb.next(s)].in)]) {
         continue;
@@ -1421,6 +1481,14 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     if (moved_by <= kOutputAgreement) break;
     if (round == kOutputRounds) {
       if (options.best_effort) break;
+      if (target != &rep) {
+        throw Error(ErrorCode::kNotConverged,
+                    "the data-ball optimizer did not settle: through its positions the "
+                    "interpolation still finds directions of lower energy (" +
+                        format_number(target->energy) + " against " + format_number(rep.energy) +
+                        ") after " + std::to_string(kOutputRounds) + " restarts from them",
+                    0);
+      }
       throw Error(ErrorCode::kNotConverged,
                   "the data-ball optimizer did not converge with the elastic spline: its "
                   "directions and the elastic interpolation's through the same positions differ "
@@ -1448,6 +1516,14 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     const Outcome more = solve(pb, st, options, false);
     if (!more.converged && !(more.stalled && more.residual <= kConditioningResidual) &&
         !options.best_effort) {
+      if (pb.m.basis != MinEnergyBasis::kElastic) {
+        throw Error(ErrorCode::kNotConverged,
+                    "the data-ball optimizer stopped with a KKT residual of " +
+                        format_number(more.residual) +
+                        " (relative, largest at this point) after restarting from the "
+                        "interpolation's directions of lower energy",
+                    more.worst);
+      }
       throw Error(ErrorCode::kNotConverged,
                   "the data-ball optimizer did not converge with the elastic spline (KKT "
                   "residual " +
@@ -1461,6 +1537,20 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     residual = more.residual;
     converged = more.converged;
     at_precision = !converged && more.stalled && more.residual <= kConditioningResidual;
+  }
+  // A ball beside a span on its pair bound (a half turn) is where the optimizer's barrier and
+  // the interpolation's active bound part: its stationarity is checked on the interpolation
+  // itself, by small moves within the ball.
+  if (pb.m.basis == MinEnergyBasis::kElastic && converged && !options.best_effort) {
+    if (const std::optional<std::size_t> at = descent_beside_half_turns(
+            pb, moved, options, rep, kOutputEnergy * 10.0 * (std::abs(rep.energy) + unit_turns))) {
+      throw Error(ErrorCode::kNotConverged,
+                  "the data-ball optimizer did not converge with the elastic spline: moving this "
+                  "point within its ball lowers the energy, beside a piece on its half-turn "
+                  "bound (end directions 180 degrees apart), which the optimizer does not "
+                  "handle; the restricted elastic spline fits these balls",
+                  *at);
+    }
   }
   std::vector<std::size_t> active;
   for (std::size_t i = 0; i < n; ++i) {

@@ -519,7 +519,27 @@ TEST(DataBalls, AConcaveSpanBetweenFreeEndsDoesNotSlowTheRest) {
   EXPECT_NEAR(a, -b, 1e-6);
 }
 
-RC_GTEST_PROP(DataBallsProps, EveryStateCombinationReachesTheBruteForceReference, ()) {
+// The optimizer may say that it did not converge (an error, never a silent wrong curve), on a few
+// of these harsh inputs: on at most 1 in 20 of the cases for the bases of the energy's smooth
+// part, and 2 in 5 for the elastic spline, whose ridges it does not handle (rates measured by
+// the stress suite: docs/hardening.md, "Data balls"). Everything it returns is a local optimum.
+void every_state_combination(int& cases, int& elastic_cases, int& not_converged,
+                             int& elastic_not_converged);
+
+TEST(DataBallsProps, EveryStateCombinationReachesTheBruteForceReference) {
+  int cases = 0, elastic_cases = 0, not_converged = 0, elastic_not_converged = 0;
+  EXPECT_TRUE(rc::check([&] {
+    every_state_combination(cases, elastic_cases, not_converged, elastic_not_converged);
+  }));
+  RecordProperty("cases", cases);
+  RecordProperty("not_converged", not_converged);
+  RecordProperty("elastic_not_converged", elastic_not_converged);
+  EXPECT_LE(not_converged, cases / 20 + 1);
+  EXPECT_LE(elastic_not_converged, 2 * elastic_cases / 5 + 1);
+}
+
+void every_state_combination(int& cases, int& elastic_cases, int& not_converged,
+                             int& elastic_not_converged) {
   // One seed per case, every draw uniform from it (rapidcheck's own generators favour small
   // values at small sizes: 40% of the cases were the first basis).
   std::mt19937_64 rng(static_cast<std::uint64_t>(*rc::gen::inRange(0, 1 << 30)));
@@ -579,6 +599,7 @@ RC_GTEST_PROP(DataBallsProps, EveryStateCombinationReachesTheBruteForceReference
     in.radii[n / 2] = 0.1 * gap(n / 2, (n / 2 + 1) % n);
   }
   RC_TAG(c.method + " " + c.options.dump());
+  ++(c.method == "elastic" ? elastic_cases : cases);
   RC_LOG() << "basis " << c.method << " " << c.options.dump() << "\n";
   for (std::size_t i = 0; i < n; ++i) {
     RC_LOG() << std::setprecision(17) << "point " << i << " (" << in.points[i].x << ", "
@@ -599,13 +620,13 @@ RC_GTEST_PROP(DataBallsProps, EveryStateCombinationReachesTheBruteForceReference
   try {
     r = fit_balls(c.method, in, c.options, ReportLevel::kNone);
   } catch (const Error& e) {
-    // Only a stencil or clamped direction beyond the basis's feasible range may refuse it;
-    // the elastic spline may also say that its ridges stopped the optimizer (documented, and
-    // counted in docs/hardening.md, "Data balls").
+    // Only a stencil or clamped direction beyond the basis's feasible range may refuse it, or
+    // the optimizer say that it did not converge (counted above).
     RC_LOG() << c.method << " " << c.options.dump() << ": " << e.what() << "\n";
-    RC_ASSERT(e.code() == ErrorCode::kInfeasible ||
-              (c.method == "elastic" && e.code() == ErrorCode::kNotConverged));
-    RC_SUCCEED(e.code() == ErrorCode::kInfeasible ? "infeasible" : "elastic not_converged");
+    RC_ASSERT(e.code() == ErrorCode::kInfeasible || e.code() == ErrorCode::kNotConverged);
+    if (e.code() == ErrorCode::kNotConverged)
+      ++(c.method == "elastic" ? elastic_not_converged : not_converged);
+    RC_SUCCEED(e.code() == ErrorCode::kInfeasible ? "infeasible" : "not_converged");
   }
   // Directions to 1e-9°; the elastic spline's with balls to 1e-6° (deviations up to 6.5e-8° seen
   // in this property, not in its interpolation; open in docs/hardening.md).
@@ -636,6 +657,69 @@ RC_GTEST_PROP(DataBallsProps, EveryStateCombinationReachesTheBruteForceReference
   const double e = r.method_report.at("energy").get<double>();
   const double near = reference_energy(c.method, in, c.options, &r.points);
   RC_ASSERT(e <= near * (1 + 1e-9) + 1e-12);
+}
+
+TEST(DataBalls, TheLowerOfTwoMinimaOfTheDirectionsIsTaken) {
+  // Found by the property above: at the positions the optimizer first settled at, the
+  // directions have two local minima (S-curves through point 3 at -74° and -36°), and it was in
+  // the higher one (4.05154) while the interpolation's own start finds 4.05143 there. It goes on
+  // from the lower one; the result is what a refit gives, and no position nearby is lower.
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {1.7835541375750326, -0.9483325568274994},
+               {3.5989498027257207, -1.5734234133852403},
+               {4.8324177691834027, -3.0966294978409032},
+               {6.3176138920610194, -4.930693966879355}};
+  in.radii = {0.0, 0.0, 0.3072, 0.098, 0.0};
+  using S = SideState;
+  in.states = {{S::kFree, S::kClamped},
+               {S::kFree, S::kRegular},
+               {S::kClamped, S::kFree},
+               {S::kRegular, S::kRegular},
+               {S::kFree, S::kFree}};
+  in.out_tangents.assign(5, std::nullopt);
+  in.in_tangents.assign(5, std::nullopt);
+  in.out_tangents[0] = Vec2{std::cos(-0.488692), std::sin(-0.488692)};
+  in.in_tangents[2] = Vec2{std::cos(-0.314159), std::sin(-0.314159)};
+  const nlohmann::json opt = {{"lambda", 1.6}};
+  const FitResult r = fit_balls("cond-g2", in, opt);
+  const double e = r.method_report.at("energy").get<double>();
+  FitInput at = in;
+  at.points = r.points;
+  at.radii.clear();
+  EXPECT_NEAR(fit_balls("cond-g2", at, opt).method_report.at("energy").get<double>(), e, 1e-12 * e);
+  EXPECT_LT(e, 4.05143);
+  EXPECT_LE(e, reference_energy("cond-g2", in, opt, &r.points) * (1 + 1e-9));
+}
+
+TEST(DataBalls, ElasticBesideAHalfTurnSaysWhereItIsNotStationary) {
+  // Found by the property above: the span from point 5 ends on its half-turn bound, and the
+  // optimizer stopped where moving point 5 along its circle lowers the energy (3.0924 to
+  // 3.0923 by 1e-3 rad). It is reported, with the point, rather than returned as converged.
+  FitInput in;
+  in.closed = true;
+  in.points = {{0.0, 0.0},
+               {1.002249690135276, 0.34510224372458603},
+               {1.502249690135276, 0.34510224372458603},
+               {3.908583091299747, 0.94506854481176195},
+               {4.7473272052228888, 2.2366212194477146},
+               {6.2233874048068349, 3.1951859210741622}};
+  in.radii = {0.0, 0.0, 0.085, 0.0, 0.2926, 0.2992};
+  using S = SideState;
+  in.states = {{S::kRegular, S::kRegular}, {S::kClamped, S::kRegular}, {S::kClamped, S::kRegular},
+               {S::kRegular, S::kFree},    {S::kClamped, S::kFree},    {S::kRegular, S::kFree}};
+  in.in_tangents.assign(6, std::nullopt);
+  for (auto [i, a] : {std::pair{1, 0.244346}, {2, 0.383972}, {4, 0.575959}}) {
+    in.in_tangents[static_cast<std::size_t>(i)] = Vec2{std::cos(a), std::sin(a)};
+  }
+  try {
+    fit_balls("elastic", in);
+    ADD_FAILURE() << "expected not_converged";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNotConverged);
+    EXPECT_EQ(e.index().value_or(0), 5u);
+    EXPECT_NE(std::string(e.what()).find("restricted elastic"), std::string::npos);
+  }
 }
 
 TEST(DataBalls, RefitReproducesTheCurve) {
