@@ -76,6 +76,7 @@ Boundaries compute_boundaries(double value) {
 
 constexpr int kAlpha = -60;
 constexpr int kGamma = -32;
+static_assert(kAlpha >= -60 && kGamma <= -32, "the digit generation needs -60 <= e <= -32");
 
 /// c = f * 2^e ~= 10^k.
 struct CachedPower {
