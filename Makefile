@@ -7,6 +7,9 @@ EXAMPLE ?= examples/li-example1.csv
 
 # Fuzzing (libFuzzer, clang) and sanitizers (ASan + UBSan) each have their own build directory.
 FUZZ_DIR ?= build-fuzz
+FUZZ_OPT ?= -O1
+# make test's fuzz smoke: its own build at -O0 (compile time matters more than executions/s).
+FUZZ_SMOKE_DIR ?= build-fuzz-smoke
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_csv fuzz_json fuzz_fit fuzz_server
 ASAN_DIR ?= build-asan
@@ -40,7 +43,7 @@ run: deps configure
 
 # The suite includes fuzz.replay.* (every committed fuzz input, any compiler) and the fuzz smoke
 # fuzz.smoke.* (each libFuzzer target for 10 s, 40 s in all, alongside the other tests): when
-# clang can link a libFuzzer target, fuzz-smoke-build builds $(FUZZ_DIR) first (incremental
+# clang can link a libFuzzer target, fuzz-smoke-build builds $(FUZZ_SMOKE_DIR) first (incremental
 # after the first time); otherwise they report as skipped. FUZZ_SMOKE=0 leaves them out.
 FUZZ_SMOKE ?= 1
 test: build fuzz-smoke-build
@@ -48,7 +51,8 @@ test: build fuzz-smoke-build
 
 fuzz-smoke-build:
 	@if [ "$(FUZZ_SMOKE)" != 1 ]; then echo "fuzz smoke: off (FUZZ_SMOKE=$(FUZZ_SMOKE))"; \
-	elif tests/fuzz/have-libfuzzer; then $(MAKE) --no-print-directory fuzz-build; \
+	elif tests/fuzz/have-libfuzzer; then \
+	  $(MAKE) --no-print-directory fuzz-build FUZZ_DIR=$(FUZZ_SMOKE_DIR) FUZZ_OPT=-O0; \
 	else echo "fuzz smoke: clang with libFuzzer not found; fuzz.smoke.* will be skipped"; fi
 
 bench: build
@@ -70,7 +74,8 @@ stress: deps configure
 # A crash stops with the reproducer's path: add it to tests/fuzz/corpus/<target>/ (make test
 # replays every file there) and fix the bug. See docs/fuzzing.md.
 fuzz-build: deps
-	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFAIRSPLINE_FUZZ=ON
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFAIRSPLINE_FUZZ=ON \
+	  -DFAIRSPLINE_FUZZ_OPT=$(FUZZ_OPT)
 	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS)
 
 fuzz: fuzz-build

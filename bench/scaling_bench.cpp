@@ -8,6 +8,11 @@
 //   retrace-report/<n>            full report of a curve that retraces itself n times (points
 //                                 alternating between two places: O(n²) coinciding pairs, each
 //                                 searched with a shrinking cell budget)
+//   report-cost/<level>           the default method on a 10^5-point random walk with each
+//                                 report level; counter x_fit: its time over the fit's alone,
+//                                 measured in the same run (goal: the default level ≤ 3)
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +22,7 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_data.hpp"
 #include "capability_inputs.hpp"
 #include "fairspline/fit.hpp"
 #include "fairspline/registry.hpp"
@@ -78,6 +84,31 @@ void bm_retrace(benchmark::State& state) {
   state.SetComplexityN(state.range(0));
 }
 
+void bm_report_cost(benchmark::State& state, ReportLevel level) {
+  const FitInput& in = fairspline::bench::walk_input(100'000);
+  const nlohmann::json options = nlohmann::json::object();
+  FitResult out;
+  using Clock = std::chrono::steady_clock;
+  auto best_of = [&](ReportLevel l, int runs) {
+    double best = HUGE_VAL;
+    for (int r = 0; r < runs; ++r) {
+      const Clock::time_point t0 = Clock::now();
+      fairspline::fit_into("quasi-elastic", in, options, l, out);
+      best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    return best;
+  };
+  const double fit_alone = best_of(ReportLevel::kNone, 5);
+  double with_report = HUGE_VAL;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    fairspline::fit_into("quasi-elastic", in, options, level, out);
+    with_report = std::min(with_report, std::chrono::duration<double>(Clock::now() - t0).count());
+    benchmark::DoNotOptimize(out.spline.segments.data());
+  }
+  state.counters["x_fit"] = with_report / fit_alone;
+}
+
 void register_scaling(const std::string& prefix, const std::string& method, ReportLevel level,
                       std::int64_t max_n) {
   auto* b = benchmark::RegisterBenchmark(
@@ -91,6 +122,13 @@ void register_scaling(const std::string& prefix, const std::string& method, Repo
   for (const fairspline::MethodInfo& m : fairspline::methods()) {
     register_scaling("scaling/", m.name, ReportLevel::kNone, 1'000'000);
     register_scaling("scaling-report/", m.name, ReportLevel::kFull, 100'000);
+  }
+  for (const auto& [name, level] : {std::pair{"none", ReportLevel::kNone},
+                                    {"basic", ReportLevel::kBasic},
+                                    {"full", ReportLevel::kFull}}) {
+    benchmark::RegisterBenchmark((std::string("report-cost/") + name).c_str(),
+                                 [level](benchmark::State& s) { bm_report_cost(s, level); })
+        ->Unit(benchmark::kMillisecond);
   }
   benchmark::RegisterBenchmark("retrace-report", bm_retrace)
       ->Arg(40)

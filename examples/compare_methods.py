@@ -43,7 +43,7 @@ methods = [
 curves = {}
 for name, options in methods:
     try:
-        curves[name] = fairspline.fit(points, name, **options)
+        curves[name] = fairspline.fit(points, name, report="full", **options)  # + curvature variation
     except fairspline.Error as e:  # e.g. kozak-krajnc needs 3m+1 points
         print("{:14s} skipped: [{}] {}".format(name, e.code, e))
 

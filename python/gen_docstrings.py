@@ -98,6 +98,7 @@ SYMBOLS = [
 
 DOC_LINE = re.compile(r"^\s*///(?!<)\s?(.*)$")
 TRAILING = re.compile(r"///<\s?(.*)$")
+CONTINUATION = re.compile(r"^\s*///<\s?(.*)$")
 ENUMERATOR = re.compile(r"^\s*(k[A-Za-z0-9]+)\s*(?:=\s*[^,]*)?,?\s*///<\s?(.*)$")
 
 
@@ -154,6 +155,10 @@ def enum_doc(lines, i):
         m = ENUMERATOR.match(line)
         if m:
             out.append((snake(m.group(1)), m.group(2).rstrip()))
+            continue
+        more = CONTINUATION.match(line)
+        if more and out:  # an enumerator's comment continued on the next line
+            out[-1] = (out[-1][0], out[-1][1] + " " + more.group(1).rstrip())
     if not out:
         raise GenError("enum on line {} has no documented enumerators".format(i + 1))
     width = max(len(name) for name, _ in out)

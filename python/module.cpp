@@ -677,7 +677,7 @@ Parameters
                    "says which discs are active.") +
          param("knots", "array_like, optional", doc::input_knots) +
          param("report", "{\"none\", \"basic\", \"full\"}",
-               std::string(doc::report_level) + " Default \"full\".\n" + doc::report_levels) +
+               std::string(doc::report_level) + " Default \"basic\".\n" + doc::report_levels) +
          param("accuracy", "float or None", std::string(doc::fit_options_accuracy)) +
          param("best_effort", "bool",
                std::string(doc::fit_options_best_effort) + " Default False.") +
@@ -1520,14 +1520,14 @@ PYBIND11_MODULE(_core, m) {
         py::arg("tangents") = py::none(), py::arg("kinds") = py::none(),
         py::arg("states") = py::none(), py::arg("in_tangents") = py::none(),
         py::arg("out_tangents") = py::none(), py::arg("corners_deg") = py::none(),
-        py::arg("radii") = py::none(), py::arg("knots") = py::none(), py::arg("report") = "full",
+        py::arg("radii") = py::none(), py::arg("knots") = py::none(), py::arg("report") = "basic",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
         py::arg("options") = py::none(), keep(fit_doc()));
 
   m.def("fit_many", &py_fit_many, py::arg("curves"), py::arg("method") = default_method,
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
-        py::arg("threads") = py::none(), py::arg("report") = "full",
+        py::arg("threads") = py::none(), py::arg("report") = "basic",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
         py::arg("errors") = "raise", py::arg("progress") = py::none(),
         py::arg("options") = py::none(), keep(fit_many_doc()));

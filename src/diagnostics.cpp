@@ -4,10 +4,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "detail/intersections.hpp"
 #include "detail/normalize.hpp"
@@ -356,15 +360,16 @@ namespace {
 
 /// A geometric quantity scaled back by 2^ex; one that no double can hold is an Error, not Inf.
 /// `size_ex`: the exponent of the size the quantity was computed at (for the message).
-double unscale(double v, int ex, int size_ex, const char* what) {
+double unscale(double v, int ex, int size_ex, const char* what,
+               const char* omitted_by = "no report") {
   const double w = std::scalbn(v, ex);
   if (!std::isfinite(w))
     throw Error(ErrorCode::kNonFinite,
                 std::string("the ") + what +
                     " of this curve is beyond double precision at the scale of its coordinates "
                     "(pieces about 2^" +
-                    std::to_string(size_ex) +
-                    " long); rescale the points, or ask for the basic report, which omits it");
+                    std::to_string(size_ex) + " long); rescale the points, or ask for " +
+                    omitted_by + ", which omits it");
   return w;
 }
 
@@ -373,20 +378,27 @@ double unscale(double v, int ex, int size_ex, const char* what) {
 /// origin and scaled by a power of two to unit size: the integrands hold fifth and tenth powers
 /// of the derivatives, which over- or underflow otherwise. Length scales as size, bending as
 /// 1/size, curvature variation as 1/size³.
-detail::PieceEnergies piece_energies_in_units(const CubicBezier& b, const EnergyOptions& options) {
+detail::PieceEnergies piece_energies_in_units(const CubicBezier& b, const EnergyOptions& options,
+                                              bool variation,
+                                              const detail::SpeedMinimum* known = nullptr) {
   const std::array<Vec2, 3> legs{b.p[1] - b.p[0], b.p[2] - b.p[1], b.p[3] - b.p[2]};
   const int ex = detail::scale_exponent(legs);
   if (std::abs(ex) <= kPieceExponent)
-    return detail::piece_energies(b, options, detail::min_speed(b));
+    return detail::piece_energies(b, options, known ? *known : detail::min_speed(b), variation);
   CubicBezier u;
   for (int j = 0; j < 4; ++j) u.p[j] = detail::scaled(b.p[j] - b.p[0], -ex);
-  detail::PieceEnergies e = detail::piece_energies(u, options, detail::min_speed(u));
+  detail::PieceEnergies e = detail::piece_energies(u, options, detail::min_speed(u), variation);
   e.length.value = unscale(e.length.value, ex, ex, "length");
   e.bending.value = unscale(e.bending.value, -ex, ex, "bending energy");
-  e.curvature_variation.value =
-      unscale(e.curvature_variation.value, -3 * ex, ex, "curvature-variation energy");
+  if (variation) {
+    e.curvature_variation.value = unscale(e.curvature_variation.value, -3 * ex, ex,
+                                          "curvature-variation energy", "the basic report");
+  }
   return e;
 }
+
+/// Pieces per unit of the report's work (and of its sums): chunks run on several threads.
+constexpr std::size_t kReportChunk = 8192;
 
 /// The report of `s`, whose linearized energies and piece energies are those of `energy_source`
 /// (the same pieces and knots at another scale; see make_report).
@@ -396,54 +408,96 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
   if (level == ReportLevel::kNone) return r;
   const bool full = level == ReportLevel::kFull;
   const std::size_t n = s.segments.size();
+  r.bending_energy = 0.0;
+  r.length = 0.0;
   if (full) {
-    r.bending_energy = 0.0;
     r.curvature_variation_energy = 0.0;
-    r.length = 0.0;
     r.segments.resize(n);
   }
   if (n == 0) return r;
 
+  // The pieces in chunks of kReportChunk, summed per chunk and then in order: the same bits
+  // on any number of threads. Long curves take several threads (the report is 2-3 times the
+  // default fit's time on one).
+  struct Partial {
+    double linearized = 0.0, bending = 0.0, variation = 0.0, length = 0.0;
+    double min_speed = std::numeric_limits<double>::infinity();
+    bool regular = true, singular = false;
+  };
+  auto pieces = [&](std::size_t begin, std::size_t end, Partial& p) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Segment& g = s.segments[k];
+      const CubicBezier& b = g.bezier;
+      if (!finite_bezier(b))
+        throw Error(ErrorCode::kNonFinite,
+                    "piece " + std::to_string(k) + " has non-finite control points", k);
+      const double dt = g.t1 - g.t0;
+      if (!(dt > 0.0) || !std::isfinite(dt))
+        throw Error(
+            ErrorCode::kInvalidArgument,
+            "piece " + std::to_string(k) + " spans an empty or non-finite parameter interval", k);
+      const double lin = linearized_energy(energy_source.segments[k].bezier, dt);
+      p.linearized += lin;
+      const detail::SpeedMinimum m = detail::min_speed(b);
+      const RegularityCertificate cert = certify(b, options, m);
+      p.regular = p.regular && cert.regular;
+      p.min_speed = std::min(p.min_speed, cert.speed_lower);
+      // min_speed of the same piece when the energies come from it (not a rescaled copy).
+      const detail::PieceEnergies e =
+          piece_energies_in_units(energy_source.segments[k].bezier, options.energy, full,
+                                  &energy_source == &s ? &m : nullptr);
+      p.singular = p.singular || e.bending.singular || e.curvature_variation.singular;
+      p.bending += e.bending.value;
+      p.variation += e.curvature_variation.value;
+      p.length += e.length.value;
+      if (full) {
+        SegmentReport& sr = r.segments[k];
+        sr.linearized_energy = lin;
+        sr.regular = cert.regular;
+        // A lower bound: 0 when none is finite (no accepted sub-interval, or a speed divided
+        // by a denormal chord overflowed; found by fuzz_fit), as for the whole spline below.
+        sr.min_relative_speed = std::isfinite(cert.speed_lower) ? cert.speed_lower : 0.0;
+        const double scale = chord_scale(b);
+        const double threshold = std::max(options.min_relative_speed, 0.0) * scale;
+        sr.has_cusp = scale > 0.0 && !(m.speed > threshold);
+        sr.has_fold = scale > 0.0 && fold(b, m, threshold);
+        sr.bending_energy = e.bending.value;
+        sr.curvature_variation_energy = e.curvature_variation.value;
+        sr.length = e.length.value;
+      }
+    }
+  };
+  const std::size_t chunks = (n + kReportChunk - 1) / kReportChunk;
+  std::vector<Partial> part(chunks);
+  std::vector<std::exception_ptr> failed(chunks);
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t c; (c = next.fetch_add(1)) < chunks;) {
+      try {
+        pieces(c * kReportChunk, std::min(n, (c + 1) * kReportChunk), part[c]);
+      } catch (...) {
+        failed[c] = std::current_exception();
+      }
+    }
+  };
+  const std::size_t threads =
+      std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 8});
+  {
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+  }
   double min_speed = std::numeric_limits<double>::infinity();
   double bending = 0.0, variation = 0.0, length = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Segment& g = s.segments[k];
-    const CubicBezier& b = g.bezier;
-    if (!finite_bezier(b))
-      throw Error(ErrorCode::kNonFinite,
-                  "piece " + std::to_string(k) + " has non-finite control points", k);
-    const double dt = g.t1 - g.t0;
-    if (!(dt > 0.0) || !std::isfinite(dt))
-      throw Error(ErrorCode::kInvalidArgument,
-                  "piece " + std::to_string(k) + " spans an empty or non-finite parameter interval",
-                  k);
-    const double lin = linearized_energy(energy_source.segments[k].bezier, dt);
-    r.linearized_energy += lin;
-    const detail::SpeedMinimum m = detail::min_speed(b);
-    const RegularityCertificate cert = certify(b, options, m);
-    r.regular = r.regular && cert.regular;
-    min_speed = std::min(min_speed, cert.speed_lower);
-    if (full) {
-      SegmentReport& sr = r.segments[k];
-      sr.linearized_energy = lin;
-      sr.regular = cert.regular;
-      // A lower bound: 0 when none is finite (no accepted sub-interval, or a speed divided by
-      // a denormal chord overflowed; found by fuzz_fit), as for the whole spline below.
-      sr.min_relative_speed = std::isfinite(cert.speed_lower) ? cert.speed_lower : 0.0;
-      const double scale = chord_scale(b);
-      const double threshold = std::max(options.min_relative_speed, 0.0) * scale;
-      sr.has_cusp = scale > 0.0 && !(m.speed > threshold);
-      sr.has_fold = scale > 0.0 && fold(b, m, threshold);
-      const detail::PieceEnergies e =
-          piece_energies_in_units(energy_source.segments[k].bezier, options.energy);
-      sr.bending_energy = e.bending.value;
-      sr.curvature_variation_energy = e.curvature_variation.value;
-      sr.length = e.length.value;
-      r.energy_singular = r.energy_singular || e.bending.singular || e.curvature_variation.singular;
-      bending += e.bending.value;
-      variation += e.curvature_variation.value;
-      length += e.length.value;
-    }
+  for (std::size_t c = 0; c < chunks; ++c) {
+    if (failed[c]) std::rethrow_exception(failed[c]);  // the first piece's error, as in order
+    r.linearized_energy += part[c].linearized;
+    r.regular = r.regular && part[c].regular;
+    r.energy_singular = r.energy_singular || part[c].singular;
+    min_speed = std::min(min_speed, part[c].min_speed);
+    bending += part[c].bending;
+    variation += part[c].variation;
+    length += part[c].length;
   }
   r.min_relative_speed = std::isfinite(min_speed) ? min_speed : 0.0;
 
@@ -479,10 +533,10 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
       throw Error(ErrorCode::kNonFinite, "the points to interpolate are not finite");
   }
 
+  r.bending_energy = bending;
+  r.length = length;
   if (full) {
-    r.bending_energy = bending;
     r.curvature_variation_energy = variation;
-    r.length = length;
     r.intersections = find_self_intersections(s, options);
     for (const Intersection& x : r.intersections)
       if (x.segment_a == x.segment_b) r.segments[x.segment_a].has_loop = true;

@@ -330,12 +330,17 @@ TEST_F(CliBatch, RecordsEqualFitOutput) {
       EXPECT_TRUE(expected.contains("report"));
     }
   }
-  // The default report level of batch is basic: a report without the quadratures.
+  // The default report level of batch is basic: bending energy and length, not the curvature
+  // variation, the per-piece reports or the intersections.
   const CliRun dflt = run("batch", requests[0].dump());
   ASSERT_EQ(dflt.exit_code, 0) << dflt.err;
   const json rec = json::parse(dflt.out);
   EXPECT_TRUE(rec["report"]["linearized_energy"].is_number());
-  EXPECT_TRUE(rec["report"]["bending_energy"].is_null());
+  EXPECT_TRUE(rec["report"]["bending_energy"].is_number());
+  EXPECT_TRUE(rec["report"]["length"].is_number());
+  EXPECT_TRUE(rec["report"]["curvature_variation_energy"].is_null());
+  EXPECT_FALSE(rec["report"].contains("segment_reports"));
+  EXPECT_FALSE(rec["report"].contains("intersections"));
 }
 
 TEST_F(CliBatch, ProgressOnlyOnATerminal) {

@@ -62,12 +62,15 @@ void expect_fit_schema(const json& j, const std::string& method, std::size_t poi
     EXPECT_TRUE(s["t1"].is_number());
     EXPECT_TRUE(s["span"].is_number_integer());
   }
+  // The default (basic) report: the curvature variation is the full report's.
   const json& rep = j["report"];
   for (const char* key :
-       {"bending_energy", "linearized_energy", "curvature_variation_energy", "length",
-        "max_tangent_angle_jump_deg", "max_curvature_jump", "min_relative_speed"}) {
+       {"bending_energy", "linearized_energy", "length", "max_tangent_angle_jump_deg",
+        "max_curvature_jump", "min_relative_speed"}) {
     EXPECT_TRUE(rep[key].is_number()) << key;
   }
+  EXPECT_TRUE(rep["curvature_variation_energy"].is_null());
+  EXPECT_FALSE(rep.contains("intersections"));  // not searched: not an empty list
   EXPECT_TRUE(rep["regular"].is_boolean());
 }
 

@@ -98,7 +98,10 @@ TEST(ErrorCatalog, Cpp) {
         fit(default_method_name(), in);
       } else {
         const io::ParsedInput p = io::parse_json_input(e.at("body").get<std::string>());
-        fit(p.method ? *p.method : std::string(default_method_name()), p.input, p.options);
+        // "report": a level other than the default (the curvature variation's overflow needs
+        // the full report).
+        const FitOptions level{.level = io::parse_report_level(e.value("report", "basic"))};
+        fit(p.method ? *p.method : std::string(default_method_name()), p.input, p.options, level);
       }
     });
     EXPECT_EQ(error_code_name(err.code()), e.at("code").get<std::string>());
@@ -208,7 +211,8 @@ TEST_F(ErrorCatalogCli, ExitStatusAndMessage) {
     } else if (e.contains("csv")) {
       r = run_program(FAIRSPLINE_CLI, "fit -", e.at("csv").get<std::string>());
     } else {
-      r = run_program(FAIRSPLINE_CLI, "fit -", e.at("body").get<std::string>());
+      r = run_program(FAIRSPLINE_CLI, "fit - --report " + e.value("report", "basic"),
+                      e.at("body").get<std::string>());
     }
     EXPECT_EQ(r.exit_code, e.at("exit").get<int>()) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;

@@ -459,7 +459,7 @@ FieldSelection parse_fields(const std::optional<std::string>& fields, ReportLeve
   const std::string_view list = *fields;
   FitResult sample;
   sample.report.emplace();
-  sample.report->bending_energy = 0.0;  // the full report's members
+  sample.report->curvature_variation_energy = 0.0;  // the full report's members
   const json record = io::to_json(sample);
   std::set<std::string> keys = {"line"}, report_keys;
   for (auto it = record.begin(); it != record.end(); ++it) keys.insert(it.key());

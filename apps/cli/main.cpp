@@ -145,7 +145,7 @@ struct FitArgs {
   std::vector<std::string> sets;
   std::string format;
   std::string output;
-  std::string report = "full";
+  std::string report = "basic";
   bool summary = false;
   int indent = -1;
   std::optional<double> accuracy;   ///< else the request's, else the default
@@ -476,7 +476,9 @@ int run(int argc, char** argv) {
   fit->add_option("--tolerance", fa.tolerance,
                   "-f geojson only: the largest distance of the LineString from the curve, in "
                   "the data's units (default: 1e-4 of the diagonal of the curve's bounds)");
-  fit->add_option("--report", fa.report, "Report level (default: full)")
+  fit->add_option("--report", fa.report,
+                  "Report level (default: basic; full adds per-piece reports, curvature variation "
+                  "and self-intersections)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
   add_fit_options(*fit, fa.accuracy, fa.best_effort);
   fit->add_flag("--summary", fa.summary,

@@ -167,7 +167,7 @@ nlohmann::json registry_schema();
 /// NaN/Inf leaves the library, and computes the report at `level`.
 FitResult fit(std::string_view method, const FitInput& input,
               const nlohmann::json& options = nlohmann::json::object(),
-              ReportLevel level = ReportLevel::kFull);
+              ReportLevel level = ReportLevel::kBasic);
 /// As above, with every fit option (report level, accuracy, diagnostics, best effort).
 auto fit(std::string_view method, const FitInput& input, const nlohmann::json& options,
          const FitOptions& fit_options) -> FitResult;

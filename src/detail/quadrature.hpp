@@ -50,10 +50,21 @@ void gauss_kronrod15(F& f, double a, double b, std::array<double, N>& value,
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   const double c = 0.5 * (a + b), h = 0.5 * (b - a);
   std::array<std::array<double, N>, 15> fv;  // f at the 15 nodes: [7] centre, [j] and [14-j]
-  fv[7] = f(c);
-  for (int j = 0; j < 7; ++j) {
-    fv[j] = f(c - h * kGkNodes[j]);
-    fv[14 - j] = f(c + h * kGkNodes[j]);
+  if constexpr (requires(std::array<double, 15> u) { f.batch(u, fv); }) {
+    // All 15 nodes at once (an integrand written as loops over them, which vectorize).
+    std::array<double, 15> u;
+    u[7] = c;
+    for (int j = 0; j < 7; ++j) {
+      u[j] = c - h * kGkNodes[j];
+      u[14 - j] = c + h * kGkNodes[j];
+    }
+    f.batch(u, fv);
+  } else {
+    fv[7] = f(c);
+    for (int j = 0; j < 7; ++j) {
+      fv[j] = f(c - h * kGkNodes[j]);
+      fv[14 - j] = f(c + h * kGkNodes[j]);
+    }
   }
   for (std::size_t k = 0; k < N; ++k) {
     double resk = kKronrodWeights[7] * fv[7][k];
@@ -73,8 +84,10 @@ void gauss_kronrod15(F& f, double a, double b, std::array<double, N>& value,
     double err = std::abs((resk - resg) * h);
     resasc *= ah;
     resabs *= ah;
-    if (resasc != 0.0 && err != 0.0)
-      err = resasc * std::min(1.0, std::pow(200.0 * err / resasc, 1.5));
+    if (resasc != 0.0 && err != 0.0) {
+      const double r = 200.0 * err / resasc;  // r^1.5 as r·√r: pow was a tenth of a report
+      err = resasc * std::min(1.0, r * std::sqrt(r));
+    }
     err = std::max(err, 50.0 * kEps * resabs);
     value[k] = resk * h;
     error[k] = err;
@@ -274,15 +287,16 @@ inline bool is_straight(const CubicBezier& b) {
   return true;
 }
 
-/// Bending, curvature variation and length of one piece from a single adaptive quadrature.
+/// Bending, curvature variation and length of one piece.
 struct PieceEnergies {
   Quadrature bending;
-  Quadrature curvature_variation;
+  Quadrature curvature_variation;  ///< zero unless asked for
   Quadrature length;
 };
 /// Implemented in energy.cpp (same conventions as the public per-piece functions); `m` is
-/// min_speed(b), passed in when the caller already has it.
+/// min_speed(b), passed in when the caller already has it. Bending and length come from one
+/// adaptive quadrature, the curvature variation (when `variation`) from another.
 PieceEnergies piece_energies(const CubicBezier& b, const EnergyOptions& options,
-                             const SpeedMinimum& m);
+                             const SpeedMinimum& m, bool variation);
 
 }  // namespace fairspline::detail

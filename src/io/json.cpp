@@ -788,7 +788,9 @@ std::string summary_table(const FitResult& result) {
     const std::string singular = r.energy_singular ? " (singular)" : "";
     rows.emplace_back("bending energy", opt(r.bending_energy) + singular);
     rows.emplace_back("linearized energy", fmt_number(r.linearized_energy));
-    rows.emplace_back("curvature-variation energy", opt(r.curvature_variation_energy) + singular);
+    if (r.curvature_variation_energy) {  // the full report's
+      rows.emplace_back("curvature-variation energy", opt(r.curvature_variation_energy) + singular);
+    }
     rows.emplace_back("length", opt(r.length));
     rows.emplace_back("regular", r.regular ? "yes" : "NO");
     rows.emplace_back("max tangent jump (deg)", fmt_number(r.max_tangent_angle_jump_deg));

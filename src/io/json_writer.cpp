@@ -243,9 +243,9 @@ void emit_optional(Sink& s, const std::optional<double>& v) {
 
 template <class Sink>
 void emit_report(Sink& s, const Report& r) {
-  // Per-segment reports and intersections exist only at the full level (which is also the
-  // level that computes the bending energy).
-  const bool full = r.bending_energy.has_value() || !r.segments.empty();
+  // Per-segment reports and intersections exist only at the full level (the only one with the
+  // curvature-variation energy).
+  const bool full = r.curvature_variation_energy.has_value() || !r.segments.empty();
   s.begin_object();
   s.key("bending_energy");
   emit_optional(s, r.bending_energy);

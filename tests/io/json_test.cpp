@@ -563,12 +563,18 @@ TEST(JsonText, ReportLevelAndPointKindNames) {
 TEST(JsonText, SummaryTable) {
   FitInput in;
   in.points = kExample;
-  const std::string full = summary_table(fit("li-combined", in));
+  const std::string full =
+      summary_table(fit("li-combined", in, json::object(), ReportLevel::kFull));
   for (const char* row :
        {"method", "segments", "bending energy", "linearized energy", "curvature-variation energy",
-        "length", "regular", "max tangent jump", "max curvature jump"}) {
+        "length", "regular", "max tangent jump", "max curvature jump", "self-intersections"}) {
     EXPECT_NE(full.find(row), std::string::npos) << row;
   }
+  // The default (basic) report: no curvature-variation or self-intersection row.
+  const std::string basic = summary_table(fit("li-combined", in));
+  EXPECT_NE(basic.find("bending energy"), std::string::npos);
+  EXPECT_EQ(basic.find("curvature-variation energy"), std::string::npos);
+  EXPECT_EQ(basic.find("self-intersections"), std::string::npos);
   EXPECT_NE(full.find("li-combined"), std::string::npos);
   // Aligned: every value starts in the same column.
   std::istringstream ss(full);

@@ -56,8 +56,9 @@ def test_same_json_as_cli(cli, method, flags, kwargs):
 def test_self_intersecting_report_same_as_cli(cli):
     pts = [[0, 0], [2, 0], [2, 2], [1, -1], [0, 2]]
     for method in ("li-strain", "jaklic-zagar"):
-        doc = json.loads(cli.fit_json("-", "-m", method, stdin=input_json(pts)))
-        curve = fairspline.fit(pts, method)
+        doc = json.loads(cli.fit_json("-", "-m", method, "--report", "full",
+                                      stdin=input_json(pts)))
+        curve = fairspline.fit(pts, method, report="full")
         assert len(curve.report["intersections"]) == 2
         assert curve.report == doc["report"]
         assert isinstance(curve.report["intersections"][0]["segment_a"], int)
@@ -69,9 +70,15 @@ def test_to_json_indent_and_report_levels(cli):
     none = fairspline.fit(example_points(), report="none")
     assert none.report is None
     assert none.to_json() + "\n" == cli.fit_json(EXAMPLE, "--report", "none")
-    basic = fairspline.fit(example_points(), report="basic")
-    assert basic.report["bending_energy"] is None and basic.report["linearized_energy"] > 0
+    basic = fairspline.fit(example_points(), report="basic")  # the default
+    assert basic.report["bending_energy"] > 0 and basic.report["length"] > 0
+    assert basic.report["curvature_variation_energy"] is None
+    assert "intersections" not in basic.report  # not searched, which is not "none found"
     assert basic.to_json() + "\n" == cli.fit_json(EXAMPLE, "--report", "basic")
+    full = fairspline.fit(example_points(), report="full")
+    assert full.report["curvature_variation_energy"] > 0 and full.report["intersections"] == []
+    assert full.report["bending_energy"] == basic.report["bending_energy"]
+    assert full.to_json() + "\n" == cli.fit_json(EXAMPLE, "--report", "full")
 
 
 def test_hermite_input_fields_match_cli(cli):

@@ -132,7 +132,7 @@ def test_method_names_and_report_levels_are_the_modules():
     names = {e.value for e in literal.value.slice.elts}
     assert names == {m["name"] for m in fairspline.methods()}
     assert set(fairspline.MethodName.__args__) == {fairspline._Literal[n] for n in names}
-    assert "'full'" in _core.fit.__doc__.split("\n", 1)[0]  # the default the stub states
+    assert "'basic'" in _core.fit.__doc__.split("\n", 1)[0]  # the default the stub states
 
 
 def test_py_typed_ships_beside_the_stub():

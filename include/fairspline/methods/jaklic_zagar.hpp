@@ -112,7 +112,7 @@ double jaklic_zagar_segment_energy(Vec2 chord, double dt, Vec2 d0, Vec2 d1);
 /// `lambda_mode`, `reversal`, `inserted` (output indices of inserted points), `inserted_at`.
 /// The diagnostics Report is added by fairspline::fit(), not here.
 FitResult fit_jaklic_zagar(const FitInput& input, const JaklicZagarOptions& options = {},
-                           ReportLevel level = ReportLevel::kFull);
+                           ReportLevel level = ReportLevel::kBasic);
 /// The same, written into `out` reusing its capacity (see fairspline::fit_into): no allocation
 /// per fit once `out` has seen a curve of the same size (kNone). Only the method_report is
 /// built here; the registry's fit() adds the Report.

@@ -102,6 +102,6 @@ struct KozakKrajncOptions {
 void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, ReportLevel level,
                       FitResult& out);
 FitResult fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options = {},
-                           ReportLevel level = ReportLevel::kFull);
+                           ReportLevel level = ReportLevel::kBasic);
 
 }  // namespace fairspline

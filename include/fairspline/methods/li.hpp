@@ -29,7 +29,7 @@ struct LiOptions {
 /// for closed curves with an odd number of points, where the solution is unique.
 /// Throws Error on bad input (see detail::prepare_input) and kSingularSystem as above.
 FitResult fit_li(const FitInput& input, const LiOptions& options,
-                 ReportLevel level = ReportLevel::kFull);
+                 ReportLevel level = ReportLevel::kBasic);
 /// The same, written into `out` reusing its capacity (see fairspline::fit_into). The report is
 /// not computed here (the registry's fit() does that); `level` only sizes the method_report.
 void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, FitResult& out);

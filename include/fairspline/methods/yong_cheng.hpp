@@ -210,7 +210,7 @@ struct YongChengOptions {
 /// totals `constructions` (count per name), `all_preserved`. Always: `composite`, `ratio`,
 /// `tangents_from`.
 FitResult fit_yong_cheng(const FitInput& input, const YongChengOptions& options = {},
-                         ReportLevel level = ReportLevel::kFull);
+                         ReportLevel level = ReportLevel::kBasic);
 /// The same, written into `out` reusing its capacity (see fairspline::fit_into).
 void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, ReportLevel level,
                     FitResult& out);
