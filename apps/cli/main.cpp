@@ -90,6 +90,16 @@ std::string read_all(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw Error(ErrorCode::kIoError, "cannot read '" + path + "': no such file or no access");
+  // A regular file straight into its string (no stream buffer and copy of a large input).
+  if (const auto size = fs::file_size(path, ec); !ec && fs::is_regular_file(path, ec)) {
+    std::string text(static_cast<std::size_t>(size), '\0');
+    in.read(text.data(), static_cast<std::streamsize>(size));
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (in.bad()) throw Error(ErrorCode::kIoError, "error while reading '" + path + "'");
+    if (in.peek() == std::char_traits<char>::eof()) return text;  // (else it grew: read on)
+    ss << text << in.rdbuf();
+    return ss.str();
+  }
   ss << in.rdbuf();
   if (in.bad()) throw Error(ErrorCode::kIoError, "error while reading '" + path + "'");
   return ss.str();
@@ -117,19 +127,32 @@ fairspline::Vec2 parse_vector_arg(const std::string& text, const char* flag) {
   return {x, y};
 }
 
-void write_output(const std::string& path, const std::string& text) {
-  if (path.empty() || path == "-") {
-    std::cout << text << std::flush;
-    if (!std::cout) {
-      throw UsageError{Error(ErrorCode::kIoError, "cannot write to standard output")};
+/// Gives `write` the output (standard output for "" or "-"); a failed write is a usage error.
+template <class Write>
+void write_output_with(const std::string& path, Write write) {
+  try {
+    if (path.empty() || path == "-") {
+      write(std::cout);
+      std::cout.flush();
+      if (!std::cout) {
+        throw UsageError{Error(ErrorCode::kIoError, "cannot write to standard output")};
+      }
+      return;
     }
-    return;
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw UsageError{Error(ErrorCode::kIoError, "cannot write '" + path + "'")};
+    write(out);
+    out.close();
+    if (!out) throw UsageError{Error(ErrorCode::kIoError, "error while writing '" + path + "'")};
+  } catch (const Error& e) {  // from a writer that writes as it goes
+    throw UsageError{Error(
+        ErrorCode::kIoError,
+        "error while writing '" + (path.empty() ? std::string("-") : path) + "': " + e.what())};
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw UsageError{Error(ErrorCode::kIoError, "cannot write '" + path + "'")};
-  out << text;
-  out.close();
-  if (!out) throw UsageError{Error(ErrorCode::kIoError, "error while writing '" + path + "'")};
+}
+
+void write_output(const std::string& path, const std::string& text) {
+  write_output_with(path, [&](std::ostream& os) { os << text; });
 }
 
 // ---------------------------------------------------------------- fit
@@ -261,10 +284,13 @@ int run_fit(const FitArgs& a) {
     text = fairspline::io::svg_path_data(result.spline) + "\n";
   } else if (format == "geojson") {
     text = fairspline::io::write_geojson(result, a.tolerance.value_or(0.0));
-  } else {
-    text = fairspline::io::write_json(result, a.indent) + "\n";
+  } else {  // JSON, the long output: written as it is made
+    write_output_with(a.output, [&](std::ostream& os) {
+      fairspline::io::write_json(result, os, a.indent);
+      os << '\n';
+    });
   }
-  write_output(a.output, text);
+  if (format != "json") write_output(a.output, text);
   if (a.summary) {
     const std::string table = fairspline::io::summary_table(result);
     if (a.output.empty() || a.output == "-") {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <string_view>
 
@@ -28,6 +29,19 @@ namespace {
 class TextSink {
  public:
   TextSink(std::string& out, int indent) : out_(out), indent_(indent) {}
+  /// Writes to `stream` whenever kFlushBytes are buffered (and at flush()): a long curve's text
+  /// is never held whole (57 MB for 2·10^5 points), nor regrown and copied.
+  TextSink(std::string& buffer, int indent, std::ostream& stream)
+      : out_(buffer), indent_(indent), stream_(&stream) {
+    out_.reserve(kFlushBytes + 4096);
+  }
+
+  void flush() {
+    if (!stream_) return;
+    stream_->write(out_.data(), static_cast<std::streamsize>(out_.size()));
+    out_.clear();
+    if (!*stream_) throw Error(ErrorCode::kIoError, "error while writing the JSON text");
+  }
 
   void begin_object() { open('{'); }
   void end_object() { close('}'); }
@@ -53,6 +67,7 @@ class TextSink {
     before_value();
     char buf[detail::kJsonNumberChars];
     out_.append(buf, detail::format_json_number(buf, v));
+    if (stream_ && out_.size() >= kFlushBytes) flush();
   }
   void integer(std::int64_t v) { append_integer(v); }
   void unsigned_integer(std::uint64_t v) { append_integer(v); }
@@ -127,8 +142,11 @@ class TextSink {
     }
   }
 
+  static constexpr std::size_t kFlushBytes = 1 << 20;
+
   std::string& out_;
   const int indent_;
+  std::ostream* stream_ = nullptr;
   int depth_ = 0;
   bool first_ = true;  ///< nothing written yet in the innermost open container
   bool after_key_ = false;
@@ -475,6 +493,13 @@ std::string write_json(const FitResult& result, int indent) {
   std::string out;
   write_json(result, out, indent);
   return out;
+}
+
+void write_json(const FitResult& result, std::ostream& out, int indent) {
+  std::string buffer;
+  TextSink sink(buffer, indent, out);
+  emit_result(sink, result, json());
+  sink.flush();
 }
 
 void write_json(const FitResult& result, JsonSax& handler) {

@@ -549,6 +549,24 @@ TEST(JsonOutput, ErrorToJson) {
   EXPECT_TRUE(any["error"]["hint"]["value"].is_null());
 }
 
+TEST(JsonText, WrittenToAStreamAsItIsMade) {
+  // 20000 points: about 6 MB of text, flushed a megabyte at a time; the same bytes as the
+  // string, compact and indented, and a stream that fails is an io_error.
+  FitInput in;
+  in.points = testing::random_walk(20000, 3, 100);
+  const FitResult r = fit("jaklic-zagar", in, json::object(), ReportLevel::kFull);
+  for (int indent : {-1, 2}) {
+    std::ostringstream os;
+    write_json(r, os, indent);
+    const std::string whole = write_json(r, indent);
+    EXPECT_GT(whole.size(), std::size_t{3} << 20);
+    EXPECT_TRUE(os.str() == whole) << indent;
+  }
+  std::ostringstream broken;
+  broken.setstate(std::ios::badbit);
+  testing::expect_error(ErrorCode::kIoError, [&] { write_json(r, broken); }, {"writing"});
+}
+
 TEST(JsonText, ReportLevelAndPointKindNames) {
   for (ReportLevel l : {ReportLevel::kNone, ReportLevel::kBasic, ReportLevel::kFull}) {
     EXPECT_EQ(parse_report_level(report_level_name(l)), l);

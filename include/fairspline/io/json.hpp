@@ -2,6 +2,7 @@
 // Python and external checks), plus small text helpers shared by the tools.
 #pragma once
 
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -72,6 +73,9 @@ void write_json(const FitResult& result, std::string& out, int indent = -1,
                 const nlohmann::json& extra = nullptr);
 /// The same text as a string.
 std::string write_json(const FitResult& result, int indent = -1);
+/// The same text written to `out` as it is made, a megabyte at a time (a long curve's text is
+/// never held whole); a failed write throws Error(kIoError).
+void write_json(const FitResult& result, std::ostream& out, int indent = -1);
 
 /// The SAX interface of nlohmann::json (json::sax_parse drives one).
 using JsonSax = nlohmann::json_sax<nlohmann::json>;
