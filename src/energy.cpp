@@ -96,9 +96,17 @@ struct Setup {
   std::size_t nbreaks = 0;
 };
 
+/// |v| as √(x² + y²) where the squares neither over- nor underflow, else hypot (overflow-safe
+/// and several times slower; the report's pieces are at unit scale).
+double quick_norm(Vec2 v) {
+  const double s2 = norm2(v);
+  return s2 > 1e-280 && s2 < 1e280 ? std::sqrt(s2) : norm(v);
+}
+
 Setup setup(const CubicBezier& b, const EnergyOptions& o, const SpeedMinimum& m) {
   Setup s;
-  const double scale = control_polygon_length(b);
+  const double scale =
+      quick_norm(b.p[1] - b.p[0]) + quick_norm(b.p[2] - b.p[1]) + quick_norm(b.p[3] - b.p[2]);
   s.straight = is_straight(b);
   s.floor = std::max(o.speed_floor, 0.0) * scale;
   s.singular = !(m.speed > s.floor) || scale == 0.0;
@@ -107,7 +115,7 @@ Setup setup(const CubicBezier& b, const EnergyOptions& o, const SpeedMinimum& m)
   // |b''|²(u − u0)²). Without them a narrow peak fooled the error estimate, Gauss and Kronrod
   // both missing it (half of a bending energy of 1.4e17 near a cusp), unless a sharper
   // integrand (the curvature variation) made the refinement go on.
-  const double ends = std::min(norm(b.d1(0.0)), norm(b.d1(1.0)));
+  const double ends = std::min(quick_norm(b.d1(0.0)), quick_norm(b.d1(1.0)));
   if (m.u > 0.0 && m.u < 1.0 && m.speed < 0.25 * ends) {
     auto add = [&](double u) {
       if (u > 0.0 && u < 1.0 && s.nbreaks < kMaxBreaks) s.breaks[s.nbreaks++] = u;
