@@ -56,6 +56,7 @@ fuzz-smoke-build:
 	else echo "fuzz smoke: clang with libFuzzer not found; fuzz.smoke.* will be skipped"; fi
 
 bench: build
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target fairspline_bench
 	$(BUILD_DIR)/bench/fairspline_bench --benchmark_min_time=0.2
 	/usr/bin/python3 bench/compare_scipy.py --cli $(CLI)
 
