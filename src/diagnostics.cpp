@@ -15,6 +15,7 @@
 
 #include "detail/intersections.hpp"
 #include "detail/normalize.hpp"
+#include "detail/numbers.hpp"
 #include "detail/quadrature.hpp"
 #include "detail/scale.hpp"
 #include "fairspline/error.hpp"
@@ -22,7 +23,6 @@
 namespace fairspline {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kUnbounded = std::numeric_limits<double>::max();
 /// Pieces whose differences of control points are within 2^±kPieceExponent are integrated
 /// directly (the curvature-variation integrand holds tenth powers of them).

@@ -18,15 +18,14 @@
 #include <vector>
 
 #include "detail/format.hpp"
+#include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline::detail {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kSqrt2 = std::numbers::sqrt2;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// Angles (rad) up to which a piece is the straight segment: 50 times the largest at which a scan
 /// of (α, β) found the canonical arc unresolved (u0 = u1, 2e-15), and a deviation from the chord

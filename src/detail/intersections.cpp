@@ -1,4 +1,5 @@
 #include "detail/intersections.hpp"
+#include "detail/numbers.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace fairspline::detail {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 /// Subdivision cells of one pair of pieces before they are taken to coincide along an arc.
 constexpr std::size_t kMaxCells = std::size_t{1} << 15;
 /// Distinct crossings of two cubics that do not share an arc: at most 3·3 (Bezout).

@@ -21,13 +21,12 @@
 #include "detail/format.hpp"
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
+#include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline::detail {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 /// A direction within this fraction of Ω beyond a bound it is held to is on it (rounding).
 constexpr double kBoxRounding = 1e-12;

@@ -17,6 +17,7 @@
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
 #include "detail/input.hpp"
+#include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
 
@@ -32,7 +33,6 @@ namespace {
 #define FAIRSPLINE_JZ_INLINE inline
 #endif
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 // z_i = 0 (collinear chords) and u_i·v_i = 0 (a right angle) are decided on the unit chord
 // vectors: |â × b̂| resp. |â · b̂| at rounding level. Both are dimensionless, so the decision is
 // relative to the data's scale by construction.

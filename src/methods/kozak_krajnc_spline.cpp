@@ -512,10 +512,6 @@ std::vector<double> kozak_krajnc_select(std::span<const Point> points,
 
 namespace {
 
-Vec2 unit(Vec2 v) {
-  return normalized(v);  // (1/|v|)·v overflows for a denormal v
-}
-
 struct PieceFit {
   KozakKrajncSolutions all;
   KozakKrajncSolution s;
@@ -547,7 +543,7 @@ bool solve_piece(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3, const Piece
 }
 
 Vec2 direction(const Geometry& g, std::size_t l, double xi) {
-  return unit(cone_point(g.u[l], g.v[l], xi));
+  return normalized(cone_point(g.u[l], g.v[l], xi));
 }
 
 bool admissible(const Geometry& g, std::size_t l, Vec2 d0, Vec2 d3) {
@@ -1014,7 +1010,7 @@ std::vector<PieceFit> solve_pieces(const Prepared& p, const Directions& d,
   const std::size_t m = g.m;
   std::vector<PieceFit> pieces(m + 1);
   auto dir_at = [&](std::size_t l) {
-    return p.all_given ? unit(*p.given[3 * l]) : direction(g, l, d.xi[l]);
+    return p.all_given ? normalized(*p.given[3 * l]) : direction(g, l, d.xi[l]);
   };
   for (std::size_t l = 1; l <= m; ++l) {
     bool solved = false;
@@ -1340,7 +1336,7 @@ int assemble(const Prepared& p, const std::vector<PieceFit>& pieces, FitResult& 
       const double ta = u0 + t[i] * (u3 - u0), tb = u0 + t[i + 1] * (u3 - u0);
       out.knots[k + i] = ta;
       out.spline.segments.push_back({f.c.subsegment(t[i], t[i + 1]), ta, tb, k + i});
-      out.tangents[k + i] = i == 0 ? f.d0 : unit(f.c.d1(t[i]));
+      out.tangents[k + i] = i == 0 ? f.d0 : normalized(f.c.d1(t[i]));
     }
   }
   out.knots[nk - 1] = knots[nk - 1];
@@ -1352,7 +1348,8 @@ int assemble(const Prepared& p, const std::vector<PieceFit>& pieces, FitResult& 
     d[nk - 1] = pieces[m].d3;
     const std::span<const Point> all(p.scaled.data(), n);
     for (std::size_t i = nk; i < n; ++i) {
-      d[i] = p.given[i] ? unit(*p.given[i]) : unit(local_quadratic_direction(all, i, true));
+      d[i] = p.given[i] ? normalized(*p.given[i])
+                        : normalized(local_quadratic_direction(all, i, true));
     }
     for (std::size_t i = nk - 1; i + 1 < n; ++i) {
       // Yong–Cheng's composite optimized geometric Hermite curve: one OGH cubic, or two or three

@@ -35,7 +35,7 @@ inline SpanTerms span_terms(Vec2 dp, double h, double w1, double w2h2) {
   return {2.0 * s + q, s + q, (3.0 * s + 2.0 * q) * delta};
 }
 
-struct Problem {
+struct LiProblem {
   std::span<const Point> points;
   std::span<const double> knots;
   bool closed = false;
@@ -62,7 +62,7 @@ std::string singular_message(bool closed) {
 // Open curve, nothing clamped, w1 > 0 (the common case): assembly fused into the forward sweep
 // of the Thomas algorithm. The matrix is symmetric positive definite, so pivots are positive.
 // Writes the tangents into m (size n); c is scratch.
-void solve_open_free(const Problem& pb, std::vector<Vec2>& m, std::vector<double>& c) {
+void solve_open_free(const LiProblem& pb, std::vector<Vec2>& m, std::vector<double>& c) {
   const std::size_t n = pb.points.size();
   const auto& P = pb.points;
   const auto& t = pb.knots;
@@ -124,7 +124,7 @@ void solve_open(std::size_t nodes, PointAt&& point_at, SpanAt&& span_h, FixedAt&
 }
 
 // Solves for the tangent vectors m (size n) of the problem.
-void solve_tangents(const Problem& pb, std::vector<Vec2>& m) {
+void solve_tangents(const LiProblem& pb, std::vector<Vec2>& m) {
   const std::size_t n = pb.points.size();
   const auto& P = pb.points;
   const auto& t = pb.knots;
@@ -199,7 +199,7 @@ void solve_tangents(const Problem& pb, std::vector<Vec2>& m) {
 // Unit direction of v; |v| by sqrt(norm2) unless that could under/overflow. Otherwise v is
 // divided by its largest component first: v / hypot(v) of a denormal v like (5e-324, 5e-324)
 // is (1, 1), as hypot rounds to a denormal too (found by fuzz_fit).
-inline Vec2 unit(Vec2 v) {
+inline Vec2 robust_unit(Vec2 v) {
   const double n2 = norm2(v);
   if (n2 > 1e-290 && n2 < 1e290) return (1.0 / std::sqrt(n2)) * v;
   return normalized(v);
@@ -229,7 +229,7 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
                     detail::format_number(w1) + ", " + detail::format_number(w2) + ")");
   }
   const std::size_t spans = detail::prepare_input(input, li_capabilities(), "the Li method", out);
-  Problem pb;
+  LiProblem pb;
   pb.points = out.points;
   pb.knots = out.knots;
   pb.closed = out.closed;
@@ -273,13 +273,13 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
   // the data). A closed curve's last piece uses m_0 again: keep that one raw.
   auto to_unit = [&](std::size_t i) {
     if (m[i].x != 0.0 || m[i].y != 0.0) {
-      m[i] = unit(m[i]);
+      m[i] = robust_unit(m[i]);
     } else {
       // Zero derivative (a cusp of the C1 curve): report the chord direction instead.
       const Vec2 chord = (pb.closed || (i > 0 && i + 1 < n))
                              ? P[(i + 1) % n] - P[(i + n - 1) % n]
                              : (i == 0 ? P[1] - P[0] : P[n - 1] - P[n - 2]);
-      m[i] = unit(chord);
+      m[i] = robust_unit(chord);
     }
     bad |= detail::non_finite_bits(m[i]);
   };

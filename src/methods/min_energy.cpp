@@ -19,6 +19,7 @@
 #include "detail/elastica.hpp"
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
+#include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
 #include "methods/data_balls.hpp"
 #include "methods/min_energy_options.hpp"
@@ -26,8 +27,6 @@
 namespace fairspline {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 /// Hyper-dual number a + b ε1 + c ε2 + d ε1ε2 (ε1² = ε2² = 0): exact first and mixed second
 /// derivatives of a smooth expression in one pass (used for the Yong–Cheng energy).

@@ -15,6 +15,7 @@
 #include "detail/finite.hpp"
 #include "detail/input.hpp"
 #include "detail/knots.hpp"
+#include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/registry.hpp"
 
@@ -22,7 +23,6 @@ namespace fairspline {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kThird = 1.0 / 3.0;
 const double kCos30 = std::sqrt(3.0) / 2.0;
@@ -36,24 +36,24 @@ inline Vec2 mul(Vec2 a, Vec2 b) {
 inline Vec2 conj(Vec2 a) {
   return {a.x, -a.y};
 }
-inline Vec2 unit(Vec2 a) {
+inline Vec2 quick_unit(Vec2 a) {
   return a / std::sqrt(norm2(a));
 }
 /// Unit vector of any finite non-zero vector (no overflow or underflow of the squared norm).
 inline Vec2 safe_unit(Vec2 a) {
   const double m = std::max(std::abs(a.x), std::abs(a.y));
-  return unit(a / m);
+  return quick_unit(a / m);
 }
 inline Vec2 expi(double a) {
   return {std::cos(a), std::sin(a)};
 }
 /// Unit vector at half the angle of the unit vector u (angle in (−π, π)).
 inline Vec2 half(Vec2 u) {
-  return unit({1.0 + u.x, u.y});
+  return quick_unit({1.0 + u.x, u.y});
 }
 /// Unit bisector of two unit vectors less than π apart.
 inline Vec2 bisector(Vec2 a, Vec2 b) {
-  return unit(a + b);
+  return quick_unit(a + b);
 }
 /// Angle of u in [0, 2π).
 inline double angle_2pi(Vec2 u) {
@@ -209,7 +209,7 @@ inline double step_angle(const TrigStep& t) {
 void build_m1(const LocalData& d, Polygon& p) {
   const Vec2 h1 = half(d.u1);  // direction of TP1 (angle φ/2)
   const Point t = Vec2{1.0, 0.0} - kThird * h1;
-  two(p, d.u0, t, bisector(unit(t), h1), d.u1);
+  two(p, d.u0, t, bisector(quick_unit(t), h1), d.u1);
 }
 
 // M2, (θ, φ) ∈ [0, π/3] × [π, 5π/3] ∪ [π/3, 2π/3] × [4π/3, 5π/3]. P0T at angle β = θ − φ1
@@ -242,7 +242,7 @@ void build_m4(const LocalData& d, Polygon& p) {
   const Vec2 h0 = half(d.u0), h1 = half(d.u1);
   const Point t0 = kThird * h0;
   const Point t1 = Vec2{1.0, 0.0} - (1.0 / 6.0) * h1;
-  const Vec2 c = unit(t1 - t0);
+  const Vec2 c = quick_unit(t1 - t0);
   three(p, d.u0, t0, bisector(h0, c), t1, bisector(c, h1), d.u1);
 }
 
@@ -430,7 +430,7 @@ LocalData local_data(Point p0, Point p1, Vec2 v0, Vec2 v1) {
     return {w0 / std::sqrt(n0), w1 / std::sqrt(n1)};
   }
   const Vec2 e = safe_unit(d), e0 = safe_unit(v0), e1 = safe_unit(v1);
-  return {unit(Vec2{dot(e, e0), cross(e, e0)}), unit(Vec2{dot(e, e1), cross(e, e1)})};
+  return {quick_unit(Vec2{dot(e, e0), cross(e, e0)}), quick_unit(Vec2{dot(e, e1), cross(e, e1)})};
 }
 
 /// Pieces of a construction in world coordinates, written into `out`.
@@ -484,17 +484,17 @@ struct Work {
   Polygon p;
 };
 
-constexpr std::size_t kBlock = 32;
+constexpr std::size_t kEndBlock = 32;
 
 /// 0..31: the construction's method and symmetry.
 inline unsigned key(CohChoice c) {
   return static_cast<unsigned>(c.method) * 4u + static_cast<unsigned>(c.symmetry);
 }
 
-/// out[i] = M_c^s for ends[i], i < n <= kBlock, with (M, s) = pick(local data). The work runs
+/// out[i] = M_c^s for ends[i], i < n <= kEndBlock, with (M, s) = pick(local data). The work runs
 /// stage by stage over the block, so that the long dependency chains of different items
 /// (square roots, divisions, atan2, sincos) overlap. Errors carry index_base + i.
-template <std::size_t kCap = kBlock, typename Pick>
+template <std::size_t kCap = kEndBlock, typename Pick>
 [[gnu::flatten]] void construct_block(const HermiteEnds* ends, std::size_t n,
                                       std::size_t index_base, Pick&& pick, CohCurve* out) {
   std::array<Work, kCap> w;
@@ -692,8 +692,9 @@ void coh_curves(std::span<const HermiteEnds> ends, std::span<CohCurve> out) {
     throw Error(ErrorCode::kInvalidArgument,
                 "coh_curves: the output span is shorter than the input");
   }
-  for (std::size_t i = 0; i < ends.size(); i += kBlock) {
-    construct_block(ends.data() + i, std::min(kBlock, ends.size() - i), i, choose, out.data() + i);
+  for (std::size_t i = 0; i < ends.size(); i += kEndBlock) {
+    construct_block(ends.data() + i, std::min(kEndBlock, ends.size() - i), i, choose,
+                    out.data() + i);
   }
 }
 
