@@ -36,23 +36,25 @@ double chord_scale(const CubicBezier& b) {
   return chord > 0.0 ? chord : detail::control_polygon_length(b);
 }
 
-/// Distance from the origin to the segment [a, b].
-double origin_segment_distance(Vec2 a, Vec2 b) {
+/// Squared distance from the origin to the segment [a, b] (of a hodograph scaled to unit size,
+/// whose squares neither overflow nor underflow: the certificate takes one root per cell).
+double origin_segment_distance2(Vec2 a, Vec2 b) {
   const Vec2 d = b - a;
   const double l2 = norm2(d);
-  if (l2 == 0.0) return norm(a);
+  if (l2 == 0.0) return norm2(a);
   const double t = std::clamp(-dot(a, d) / l2, 0.0, 1.0);
-  return norm(a + t * d);
+  return norm2(a + t * d);
 }
 
-/// Distance from the origin to the triangle (convex hull) of h0, h1, h2; 0 when it contains it.
-double origin_hull_distance(Vec2 h0, Vec2 h1, Vec2 h2) {
+/// Squared distance from the origin to the triangle (convex hull) of h0, h1, h2; 0 when it
+/// contains it.
+double origin_hull_distance2(Vec2 h0, Vec2 h1, Vec2 h2) {
   const double s0 = cross(h1 - h0, -h0), s1 = cross(h2 - h1, -h1), s2 = cross(h0 - h2, -h2);
   const bool pos = s0 > 0.0 || s1 > 0.0 || s2 > 0.0;
   const bool neg = s0 < 0.0 || s1 < 0.0 || s2 < 0.0;
   if (!(pos && neg) && (pos || neg)) return 0.0;  // inside a proper triangle (or on its boundary)
-  return std::min({origin_segment_distance(h0, h1), origin_segment_distance(h1, h2),
-                   origin_segment_distance(h2, h0)});
+  return std::min({origin_segment_distance2(h0, h1), origin_segment_distance2(h1, h2),
+                   origin_segment_distance2(h2, h0)});
 }
 
 RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
@@ -71,7 +73,7 @@ RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
   for (Vec2& q : h.p) q = detail::scaled(q, -ex);
   const double scale = std::scalbn(chord, -ex), speed = std::scalbn(m.speed, -ex);
   const double threshold = std::max(o.min_relative_speed, 0.0) * scale;
-  const double top = origin_hull_distance(h.p[0], h.p[1], h.p[2]);
+  const double top = std::sqrt(origin_hull_distance2(h.p[0], h.p[1], h.p[2]));
   if (!(speed > threshold)) {
     // A sampled speed is already below the threshold: no certificate can exist.
     c.speed_lower = std::min(top, speed) / scale;
@@ -92,7 +94,8 @@ RegularityCertificate certify(const CubicBezier& b, const DiagnosticsOptions& o,
   double lower = std::numeric_limits<double>::infinity();
   while (top_index > 0) {
     const Item it = stack[--top_index];
-    const double d = (it.depth == 0) ? top : origin_hull_distance(it.h.p[0], it.h.p[1], it.h.p[2]);
+    const double d =
+        (it.depth == 0) ? top : std::sqrt(origin_hull_distance2(it.h.p[0], it.h.p[1], it.h.p[2]));
     // The subdivision budget bounds the work where the tightness goal cannot be met (a minimum
     // speed computed with cancellation, found by fuzz_fit: 2^max_depth cells, 0.4 s per piece):
     // the frontier's hull distances are still a proven lower bound, only a looser one.

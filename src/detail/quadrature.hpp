@@ -255,20 +255,33 @@ struct SpeedMinimum {
 };
 
 /// Exact minimum speed: |b'|² is a quartic whose critical points are the roots of the cubic
-/// b'·b''; the minimum is at one of them or at an end.
+/// b'·b''; the minimum is at one of them or at an end. The candidates are compared by their
+/// squares where those cannot over- or underflow (hypot per candidate was a tenth of the
+/// report); the speed of the one chosen is taken with hypot either way.
 inline SpeedMinimum min_speed(const CubicBezier& b) {
   const QuadBezier h = b.hodograph();
   // Power form h(u) = c0 + c1 u + c2 u².
   const Vec2 c0 = h.p[0], c1 = 2.0 * (h.p[1] - h.p[0]), c2 = h.p[0] - 2.0 * h.p[1] + h.p[2];
-  SpeedMinimum best{norm(h.p[0]), 0.0};
-  const double s1 = norm(h.p[2]);
-  if (s1 < best.speed) best = {s1, 1.0};
+  double big = 0.0;
+  for (const Vec2& q : h.p) big = std::max({big, std::abs(q.x), std::abs(q.y)});
+  const bool squares = big > 1e-100 && big < 1e100;
+  auto size = [&](Vec2 v) { return squares ? norm2(v) : norm(v); };
+  double best_size = size(h.p[0]);
+  double best_u = 0.0;
+  const double s1 = size(h.p[2]);
+  if (s1 < best_size) {
+    best_size = s1;
+    best_u = 1.0;
+  }
   for_each_root_in_unit(dot(c0, c1), 2.0 * dot(c0, c2) + dot(c1, c1), 3.0 * dot(c1, c2),
                         2.0 * dot(c2, c2), [&](double u) {
-                          const double s = norm(h.eval(u));
-                          if (s < best.speed) best = {s, u};
+                          const double s = size(h.eval(u));
+                          if (s < best_size) {
+                            best_size = s;
+                            best_u = u;
+                          }
                         });
-  return best;
+  return {squares ? norm(h.eval(best_u)) : best_size, best_u};
 }
 
 /// True when the four control points are collinear to within the rounding of their
