@@ -1,7 +1,7 @@
 // Energies of cubic pieces and splines.
 //
 // Linearized energy: b''(u) = (1-u)A + uB is linear, so ∫_0^1 |b''|² du = (|A|² + A·B + |B|²)/3.
-// Bending, curvature variation and length: globally adaptive Gauss–Kronrod 7/15 quadrature
+// Bending, curvature variation and length: globally adaptive Gauss–Kronrod 15/31 quadrature
 // (detail/quadrature.hpp) of, per unit local parameter,
 //   κ²|b'|        = cross(b',b'')² / |b'|⁵
 //   (dκ/ds)²|b'|  = (dκ/du)² / |b'|,  dκ/du = (cross(b',b''')|b'|² − 3 cross(b',b'')(b'·b'')) /
@@ -168,7 +168,7 @@ inline std::array<double, std::popcount(kWhich)> integrands(const CubicBezier& b
 }
 
 /// The integrands of kWhich as an object: one node at a time, or all nodes of a rule at once
-/// (gauss_kronrod15's batch), node by node the same arithmetic as integrands<kWhich> written
+/// (gauss_kronrod's batch), node by node the same arithmetic as integrands<kWhich> written
 /// as loops over the nodes, which the compiler vectorizes (half the report's time was here).
 template <unsigned kWhich>
 struct Integrands {

@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <boost/math/quadrature/gauss.hpp>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <cmath>
 #include <functional>
 #include <numbers>
 
+#include "detail/quadrature.hpp"
 #include "fairspline/error.hpp"
 
 namespace fairspline {
@@ -52,6 +55,44 @@ CubicBezier random_cubic() {
   for (auto& q : b.p)
     q = {*rc::gen::inRange(-1000, 1001) / 100.0, *rc::gen::inRange(-1000, 1001) / 100.0};
   return b;
+}
+
+// The rule's constants are Boost.Math's 31-point Kronrod and 15-point Gauss rules (to the last
+// bit), and the rule integrates polynomials of degree 46 exactly and degree 29 by its Gauss part.
+TEST(Quadrature, GaussKronrod31ConstantsAreBoostsAndExactOnPolynomials) {
+  using Kronrod = boost::math::quadrature::gauss_kronrod<double, 31>;
+  using Gauss = boost::math::quadrature::gauss<double, 15>;
+  const auto& x = Kronrod::abscissa();
+  const auto& w = Kronrod::weights();
+  ASSERT_EQ(x.size(), detail::kGkNodes.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {  // Boost: centre first, ascending
+    EXPECT_EQ(detail::kGkNodes[15 - i], x[i]) << i;
+    EXPECT_EQ(detail::kKronrodWeights[15 - i], w[i]) << i;
+  }
+  const auto& gx = Gauss::abscissa();
+  const auto& gw = Gauss::weights();
+  for (std::size_t i = 0; i < gx.size(); ++i) {
+    EXPECT_EQ(detail::kGaussWeights[7 - i], gw[i]) << i;
+    EXPECT_EQ(detail::kGkNodes[15 - 2 * i], gx[i]) << i;  // the Gauss nodes are every other
+  }
+  // ∫_0^1 u^d du = 1/(d+1): the Kronrod value exact to rounding up to d = 46; the estimate of a
+  // degree-29 integrand (Gauss exact too) is only the round-off floor.
+  for (int d : {0, 1, 7, 29, 30, 46}) {
+    auto f = [d](double u) { return std::array<double, 1>{std::pow(u, d)}; };
+    std::array<double, 1> value{}, error{};
+    detail::gauss_kronrod<1>(f, 0.0, 1.0, value, error);
+    EXPECT_NEAR(value[0], 1.0 / (d + 1), 4e-16) << d;
+    if (d <= 29) {
+      EXPECT_LT(error[0], 1e-13) << d;
+    }
+  }
+  // A peak of width 0.1 (∫ = 20·atan(5)): one rule is off by 3e-4, and its estimate covers it.
+  auto g = [](double u) { return std::array<double, 1>{1.0 / (0.01 + (u - 0.5) * (u - 0.5))}; };
+  std::array<double, 1> value{}, error{};
+  detail::gauss_kronrod<1>(g, 0.0, 1.0, value, error);
+  const double exact = 20.0 * std::atan(5.0), off = std::abs(value[0] - exact);
+  EXPECT_GT(off, 1e-5);
+  EXPECT_GT(error[0], off);
 }
 
 TEST(Energy, LinearizedLocalMatchesSimpson) {

@@ -67,7 +67,7 @@ struct CubicBezier {
   BBox control_bbox() const;
 
   /// Arc length to an absolute error of about accuracy·(control polygon length)
-  /// by adaptive Gauss–Kronrod (7/15) quadrature of |c'(u)|.
+  /// by adaptive Gauss–Kronrod (15/31) quadrature of |c'(u)|.
   double arc_length(double accuracy = 1e-10) const;
 };
 

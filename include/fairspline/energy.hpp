@@ -1,8 +1,8 @@
 // Energies of cubic pieces and splines.
 //   linearized strain energy  ∫|s''(t)|² dt  (closed form, in the global parameter)
-//   bending energy            ∫κ² ds         (adaptive Gauss–Kronrod 7/15)
-//   curvature variation       ∫(dκ/ds)² ds   (adaptive Gauss–Kronrod 7/15)
-//   arc length                ∫|s'| dt       (adaptive Gauss–Kronrod 7/15)
+//   bending energy            ∫κ² ds         (adaptive Gauss–Kronrod 15/31)
+//   curvature variation       ∫(dκ/ds)² ds   (adaptive Gauss–Kronrod 15/31)
+//   arc length                ∫|s'| dt       (adaptive Gauss–Kronrod 15/31)
 #pragma once
 
 #include "fairspline/cubic_bezier.hpp"
@@ -12,7 +12,7 @@ namespace fairspline {
 
 /// Options of the quadratures. Every tolerance is relative: no absolute epsilon is involved.
 struct EnergyOptions {
-  /// Relative error target of each integral: the adaptive Gauss–Kronrod (7/15) rule bisects
+  /// Relative error target of each integral: the adaptive Gauss–Kronrod (15/31) rule bisects
   /// until its error estimate is at most accuracy·|value| (or max_depth / its 256-interval
   /// budget is reached; the estimate then stays larger and is reported).
   double accuracy = 1e-9;

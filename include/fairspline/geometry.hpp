@@ -15,7 +15,7 @@
 namespace fairspline {
 
 /// Relative accuracy of the arc-length functions: each piece's length is integrated (adaptive
-/// Gauss–Kronrod 7/15) to this fraction of itself, and an inverse is solved to this fraction of
+/// Gauss–Kronrod 15/31) to this fraction of itself, and an inverse is solved to this fraction of
 /// the total length.
 inline constexpr double kDefaultLengthAccuracy = 1e-12;
 
