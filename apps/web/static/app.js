@@ -2444,6 +2444,7 @@ function projectText() {
     display: {
       ensemble: state.ensemble.map(entryToProject), comb: state.comb, polygon: state.polygon, plot: state.plot,
       ...(state.combAll ? { combAll: true } : {}),
+      ...(state.snap ? { snap: true } : {}),
     },
   };
   return `${JSON.stringify(project, null, 1)}\n`;
@@ -2479,8 +2480,8 @@ function openProject(text, source) {
   otherFits.clear();
   if (project.display) {
     state.ensemble = entriesFrom(project.display.ensemble);
-    const { comb, combAll, polygon, plot } = project.display;
-    Object.assign(state, { comb, combAll, polygon, plot });
+    const { comb, combAll, polygon, plot, snap } = project.display;
+    Object.assign(state, { comb, combAll, polygon, plot, snap });
     syncControls();
     buildEnsemble();
   }

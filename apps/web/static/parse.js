@@ -286,7 +286,7 @@ export function parseProject(text) {
     // A method name (a default entry) or {method, options?, alpha?}: read by entries.js.
     ensemble: Array.isArray(d.ensemble) ? d.ensemble.filter((m) => typeof m === 'string'
       || (m && typeof m === 'object' && typeof m.method === 'string')) : [],
-    comb: !!d.comb, combAll: !!d.combAll, polygon: !!d.polygon, plot: d.plot !== false,
+    comb: !!d.comb, combAll: !!d.combAll, polygon: !!d.polygon, plot: d.plot !== false, snap: !!d.snap,
   } : null;
   return { curves, selected, view, display };
 }
