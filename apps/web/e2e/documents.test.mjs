@@ -183,10 +183,10 @@ await run(async ({ page, url }) => {
   check(await names(page) === 'curve 1', 'opening a project is one undo step (the empty editor is back)');
   for (let i = 0; i < 4; i++) await page.click(sel('redo'));
   check(await names(page) === 'curve 1,curve 2,copy B', 'and redo opens it again');
-  await page.fill(sel('import-text'), text.replace('"version": 1', '"version": 2'));
+  await page.fill(sel('import-text'), text.replace('"version": 1', '"version": 3'));
   await page.click(sel('import'));
   const msg = await page.locator(sel('error')).textContent();
-  check(/version 2 is newer/.test(msg) && await names(page) === 'curve 1,curve 2,copy B', `a newer project version is refused (${msg})`);
+  check(/version 3 is newer/.test(msg) && await names(page) === 'curve 1,curve 2,copy B', `a newer project version is refused (${msg})`);
 
   // ---- a CLI fit result and a Curve Ensemble file each add a curve ----
   const cliJson = execFileSync(process.env.FAIRSPLINE_CLI, ['fit', '-', '-m', 'cond-g2', '-f', 'json'],

@@ -4,7 +4,7 @@
 // hash. The selected curve's data live in `state`, so all single-curve editing works on it.
 // World coordinates have the y axis up; the initial view is the 1000×700 frame.
 
-import { nearestSegment, pathData, sampleCurve } from './bezier.js';
+import { nearestSegment, pathData, pointAt, sampleCurve } from './bezier.js';
 import { PROJECT_FORMAT, PROJECT_VERSION, isProject, parseImport, parseProject } from './parse.js';
 import { renderCurvaturePlot } from './plot.js';
 import {
@@ -22,6 +22,12 @@ const POINT_R_PX = 7;
 const ARROW_PX = 80;       // length of a new clamped tangent arrow
 const DRAG_SLOP_PX = 4;    // a press on the background that moves less is a click
 const KINDS = ['smooth', 'clamped', 'corner'];
+// The library's node model: a state per side of a node (docs/methods/min-energy.md, "Node
+// states"); the kinds are its symmetric cases.
+const SIDES = ['regular', 'clamped', 'free'];
+const KIND_SIDE = { smooth: 'regular', clamped: 'clamped', corner: 'free' };
+const SIDE_KIND = { regular: 'smooth', clamped: 'clamped', free: 'corner' };
+const kindStates = (kind) => [KIND_SIDE[kind] ?? 'regular', KIND_SIDE[kind] ?? 'regular'];
 // One colour per registered method (12 ≥ the 11 methods), none of them near the comb's orange
 // (COMB_COLOR; an orange here once made jaklic-zagar's curve look like the comb).
 const PALETTE = ['#d62728', '#2ca02c', '#9467bd', '#1f77b4', '#17becf', '#8c564b', '#e377c2',
@@ -41,11 +47,13 @@ const el = {
   report: $('report'), legend: $('legend'), table: $('ensemble-table').tBodies[0],
   layerMain: $('layer-main'), layerEnsemble: $('layer-ensemble'), layerComb: $('layer-comb'),
   layerPoints: $('layer-points'), layerKinds: $('layer-kinds'), layerError: $('layer-error'),
-  layerControl: $('layer-control'), polygon: $('control-polygon'), plot: $('plot'),
+  layerControl: $('layer-control'), layerBox: $('layer-box'), layerGrid: $('layer-grid'), snap: $('snap'),
+  snapLabel: $('snap-label'), polygon: $('control-polygon'), plot: $('plot'),
   svgText: $('export-svg-text'), jsonText: $('export-json-text'), csvText: $('export-csv-text'),
   importText: $('import-text'), importFile: $('import-file'), undo: $('undo'), redo: $('redo'),
   alpha: $('alpha'), alphaNumber: $('alpha-number'), kindBox: $('kind'), kindLabel: $('kind-label'),
-  radius: $('radius'),
+  radius: $('radius'), nodeX: $('node-x'), nodeY: $('node-y'), stateIn: $('state-in'), stateOut: $('state-out'),
+  nodeDir: $('node-dir'), nodeCorner: $('node-corner'),
   zoomLabel: $('zoom-label'),
   curves: $('curves'), curveName: $('curve-name'), layerCurves: $('layer-curves'),
   exportScope: $('export-scope'), exportPoints: $('export-points'), pngScale: $('png-scale'),
@@ -53,13 +61,18 @@ const el = {
   entries: $('ensemble-entries'), entryForm: $('entry-form'), entryMethod: $('entry-method'),
   entryOptions: $('entry-options'), entryAlpha: $('entry-alpha'), tableHead: $('ensemble-table').tHead,
   methodReport: $('method-report'), layerReport: $('layer-report'), layerHighlight: $('layer-highlight'),
+  help: $('help'), emptyHint: $('empty-hint'), transformTarget: $('transform-target'),
   combAll: $('comb-all'), layerCombOthers: $('layer-comb-others'), reportPanel: $('report-panel'),
 };
 
 const state = {
   points: [],          // [[x, y], ...] in world coordinates (see freshState for the rest)
-  kinds: [],           // 'smooth' | 'clamped' | 'corner', one per point
-  tangents: [],        // arrow [dx, dy] of clamped points (world units; see knotSpan), else null
+  states: [],          // [in, out] side states per point: 'regular' | 'clamped' | 'free'
+  tangents: [],        // the outgoing arrow [dx, dy] where the out side is clamped (world units;
+                       // see knotSpan), else null
+  inArrows: [],        // the incoming arrow where the in side is clamped and differs from the
+                       // outgoing one (null: the outgoing arrow, turned back by the corner)
+  corners: [],         // corner angle in degrees kept between the in and out directions
   radii: [],           // data-ball radius per point (0: the curve passes through the point)
   closed: false,
   alpha: 0.5,          // knot parameterization exponent (sent as "alpha")
@@ -69,6 +82,7 @@ const state = {
   comb: false,
   combAll: false,      // combs of the other visible curves and ensemble entries too
   polygon: false,      // draw the Bézier control polygons of the main curve
+  snap: false,         // snap dragged and added points to other points or the grid
   plot: true,          // the curvature plot under the canvas
   view: { x: 0, y: 0, w: FRAME_W }, // the SVG viewBox (user units; height = w · ASPECT)
   selected: -1,
@@ -118,8 +132,10 @@ let historyKey = null; // the control whose edits the last undo step collects (s
 /** A deep copy of a curve's data (of `state` or of a record). */
 const copyCurve = (c) => ({
   points: c.points.map(([x, y]) => [x, y]),
-  kinds: [...c.kinds],
+  states: c.states.map(([a, b]) => [a, b]),
   tangents: c.tangents.map((t) => (t ? [...t] : null)),
+  inArrows: c.inArrows.map((t) => (t ? [...t] : null)),
+  corners: [...c.corners],
   radii: [...c.radii],
   closed: c.closed,
   alpha: c.alpha,
@@ -163,8 +179,10 @@ function restore(snap) {
   doc.selected = snap.doc.selected;
   const settings = snap.method !== state.method || JSON.stringify(snap.options) !== JSON.stringify(state.options);
   state.points = snap.points;
-  state.kinds = snap.kinds;
+  state.states = snap.states;
   state.tangents = snap.tangents;
+  state.inArrows = snap.inArrows;
+  state.corners = snap.corners;
   state.radii = snap.radii;
   state.closed = snap.closed;
   state.alpha = snap.alpha;
@@ -175,7 +193,7 @@ function restore(snap) {
   if (settings) { el.method.value = state.method; buildOptionsForm(); }
   if (switched) adoptCachedFit();
   renderCurvesPanel();
-  state.selected = -1;
+  selectOnly(-1);
   drag = null;
   importError = null;
   historyKey = null;
@@ -224,7 +242,7 @@ function newRecord(from = state, name = null) {
   while (!name && names.has(`curve ${k}`)) k += 1;
   return {
     id: nextCurveId++, name: name ?? `curve ${k}`, visible: true, color: freeColor(),
-    points: [], kinds: [], tangents: [], radii: [], closed: from.closed, alpha: from.alpha,
+    points: [], states: [], tangents: [], inArrows: [], corners: [], radii: [], closed: from.closed, alpha: from.alpha,
     method: from.method, options: structuredClone(from.options ?? {}),
   };
 }
@@ -264,7 +282,7 @@ function adoptCachedFit() {
 function loadSelected() {
   Object.assign(state, copyCurve(selectedCurve()));
   if (!methodInfo(state.method)) { state.method = schema.default; state.options = {}; }
-  state.selected = -1;
+  selectOnly(-1);
   drag = null;
   forgetErrorIndex();
   adoptCachedFit();
@@ -432,29 +450,81 @@ function renderOtherCurves() {
   el.canvas.classList.toggle('selected-hidden', !selectedCurve()?.visible);
 }
 
-// ---------- point list edits (points, kinds and tangents stay parallel) ----------
+// ---------- point list edits (the per-point lists stay parallel) ----------
+
+const PER_POINT = ['points', 'states', 'tangents', 'inArrows', 'corners', 'radii'];
+
+// The selection: state.selected is the point the panel shows (the last one picked; -1: none),
+// `selection` the others picked with it (shift-click, box, Ctrl+A). Setting state.selected to
+// -1 anywhere empties the selection.
+let selection = new Set();
+
+/** The selected points' indices, sorted. */
+function selectedIndices() {
+  if (state.selected < 0 || state.selected >= state.points.length) return [];
+  selection.add(state.selected);
+  return [...selection].filter((i) => i >= 0 && i < state.points.length).sort((a, b) => a - b);
+}
+
+/** Selects point i alone (-1: nothing). */
+function selectOnly(i) {
+  selection = new Set(i >= 0 ? [i] : []);
+  state.selected = i;
+  endHistoryGroup(); // nudges of another selection are another undo step
+}
+
+/** Selects these points (the last one is shown in the panel); `add`: to the selection. */
+function selectMany(indices, add = false) {
+  if (!add) selection = new Set();
+  for (const i of indices) selection.add(i);
+  if (indices.length) state.selected = indices[indices.length - 1];
+  else if (!add) state.selected = -1;
+  endHistoryGroup();
+  renderPoints();
+  renderSelection();
+}
+
+/** Shift-click: adds a point to the selection, or takes it out. */
+function toggleSelected(i) {
+  if (selectedIndices().includes(i)) {
+    selection.delete(i);
+    const rest = [...selection];
+    state.selected = rest.length ? rest[rest.length - 1] : -1;
+  } else {
+    selection.add(i);
+    state.selected = i;
+  }
+  endHistoryGroup();
+  renderPoints();
+  renderSelection();
+}
 
 function insertPoint(at, p) {
   pushHistory();
   state.points.splice(at, 0, p);
-  state.kinds.splice(at, 0, 'smooth');
+  state.states.splice(at, 0, ['regular', 'regular']);
   state.tangents.splice(at, 0, null);
+  state.inArrows.splice(at, 0, null);
+  state.corners.splice(at, 0, 0);
   state.radii.splice(at, 0, 0);
-  state.selected = at;
+  selectOnly(at);
   forgetErrorIndex();
   changed();
 }
 
-function removePoint(i) {
+/** Removes the points at `indices` (one undo step). */
+function removePoints(indices) {
+  const gone = new Set(indices.filter((i) => i >= 0 && i < state.points.length));
+  if (!gone.size) return;
   pushHistory();
-  state.points.splice(i, 1);
-  state.kinds.splice(i, 1);
-  state.tangents.splice(i, 1);
-  state.radii.splice(i, 1);
-  state.selected = -1;
+  const keep = (list) => list.filter((_, i) => !gone.has(i));
+  for (const key of PER_POINT) state[key] = keep(state[key]);
+  selectOnly(-1);
   forgetErrorIndex();
   changed();
 }
+
+const removePoint = (i) => removePoints([i]);
 
 /**
  * The knot spacing Δt = |ΔP|^α of the span after point i (before it for the last point of an
@@ -490,13 +560,15 @@ function fitIndexOf(i) {
 
 /** The arrow that reproduces the last fit at point i: its control arm there when the fit has a
  * segment starting (or, at the end, ending) at i; else the chord direction, ARROW_PX long. */
-function currentArrow(i) {
+function currentArrow(i, side = 'out') {
   const k = fitIndexOf(i);
   const segs = k >= 0 ? mainFit.segments : [];
   const after = segs.find((s) => s.span === k && s.t0 === mainFit.knots[k]);
   const before = segs.find((s) => s.span === k - 1 && s.t1 === mainFit.knots[k]);
-  const arm = after ? [after.bezier[1][0] - after.bezier[0][0], after.bezier[1][1] - after.bezier[0][1]]
-    : before ? [before.bezier[3][0] - before.bezier[2][0], before.bezier[3][1] - before.bezier[2][1]] : null;
+  const armAfter = after && [after.bezier[1][0] - after.bezier[0][0], after.bezier[1][1] - after.bezier[0][1]];
+  const armBefore = before && [before.bezier[3][0] - before.bezier[2][0], before.bezier[3][1] - before.bezier[2][1]];
+  // The incoming side's arm is that of the segment ending at the point (a corner's differs).
+  const arm = side === 'in' ? armBefore ?? armAfter : armAfter ?? armBefore;
   if (arm && Math.hypot(...arm) > 0) return arm;
   const n = state.points.length;
   const a = state.points[Math.max(0, i - 1)], b = state.points[Math.min(n - 1, i + 1)];
@@ -505,18 +577,125 @@ function currentArrow(i) {
   return [(d[0] / len) * ARROW_PX * unit(), (d[1] / len) * ARROW_PX * unit()];
 }
 
-function setKind(i, kind) {
-  if (i < 0 || i >= state.points.length || state.kinds[i] === kind) return;
-  pushHistory();
-  state.kinds[i] = kind;
-  if (kind === 'clamped') {
-    state.tangents[i] = currentArrow(i);
+/** The point's kind when its node is one (both sides alike, one direction, no corner angle);
+ * else null: a node only the node model expresses. */
+function kindOf(i, c = state) {
+  const [a, b] = c.states[i];
+  if (a !== b || c.inArrows[i] || (a !== 'free' && c.corners[i] !== 0)) return null;
+  return SIDE_KIND[a];
+}
+
+/** Whether the corner angle of point i is sent: never next to a free side (the library refuses
+ * it there), nor with two arrows (two directions and an angle would say it twice). */
+const cornerApplies = (i, c = state) => !c.states[i].includes('free') && !c.inArrows[i];
+
+/**
+ * Keeps a node's arrows in line with its states (after a side changed): the outgoing arrow
+ * exactly where the out side is clamped, the incoming one where the in side is clamped and the
+ * out side is not, or (both clamped) where the two directions differ. A new arrow starts from
+ * the current fit, so clamping a side never changes the curve.
+ */
+function normalizeNode(i, c = state) {
+  const [a, b] = c.states[i];
+  const out = c.tangents[i], inn = c.inArrows[i];
+  if (b === 'clamped') {
+    c.tangents[i] = out ?? (inn ? [...inn] : currentArrow(i, 'out'));
+    c.inArrows[i] = a === 'clamped' && out ? inn : null;
   } else {
-    state.tangents[i] = null;
+    c.tangents[i] = null;
+    c.inArrows[i] = a === 'clamped' ? inn ?? out ?? currentArrow(i, 'in') : null;
+  }
+  if (c.inArrows[i] && b === 'clamped') c.corners[i] = 0;
+}
+
+/** The points a panel or key edit acts on: the selection, or none. */
+function editTargets() {
+  return selectedIndices();
+}
+
+/** Sets the kind of the points (one undo step): a kind is its states, with no corner angle. */
+function setKind(indices, kind) {
+  const todo = [].concat(indices).filter((i) => i >= 0 && i < state.points.length && kindOf(i) !== kind);
+  if (!todo.length) return;
+  pushHistory();
+  for (const i of todo) {
+    state.states[i] = kindStates(kind);
+    state.inArrows[i] = null;
+    state.corners[i] = 0;
+    state.tangents[i] = kind === 'clamped' ? currentArrow(i) : null;
   }
   forgetErrorIndex();
   changed();
 }
+
+/** Sets one side ('in' | 'out') of the points' nodes (one undo step). */
+function setSide(indices, side, value) {
+  const k = side === 'in' ? 0 : 1;
+  const todo = [].concat(indices).filter((i) => i >= 0 && i < state.points.length && state.states[i][k] !== value);
+  if (!todo.length) return;
+  pushHistory();
+  for (const i of todo) {
+    state.states[i][k] = value;
+    normalizeNode(i);
+  }
+  forgetErrorIndex();
+  changed();
+}
+
+/** The next state of a side (the I and O keys). */
+const nextSide = (v) => SIDES[(SIDES.indexOf(v) + 1) % SIDES.length];
+
+/** Turns a vector by `deg` degrees (counterclockwise). */
+function rotateVec([x, y], deg) {
+  const r = (deg * Math.PI) / 180, c = Math.cos(r), s = Math.sin(r);
+  return [c * x - s * y, s * x + c * y];
+}
+
+const angleOf = ([x, y]) => (Math.atan2(y, x) * 180) / Math.PI;
+
+/** The directions drawn at a node: out (the outgoing arrow) and in (the incoming one, which
+ * with no arrow of its own is the outgoing one turned back by the corner angle). */
+function nodeArrows(i, c = state) {
+  const [a, b] = c.states[i];
+  const out = b === 'clamped' ? c.tangents[i] : null;
+  let inn = null;
+  if (a === 'clamped') inn = c.inArrows[i] ?? (out ? rotateVec(out, -(c.corners[i] ?? 0)) : null);
+  return { in: inn, out };
+}
+
+/** A node's states as the request writes them: one string for both sides, else [in, out]. */
+const stateText = ([a, b]) => (a === b ? a : [a, b]);
+
+/** The node fields of a request for curve c: `kinds` and `tangents` when every node is a kind
+ * (the form every method reads), else the node model's `states`, `tangents` (both sides of a
+ * clamped node with one arrow), `in_tangents`, `out_tangents` and `corners_deg`. */
+function nodeFields(c) {
+  const n = c.points.length;
+  const kinds = c.states.map((_, i) => kindOf(i, c));
+  if (kinds.every((k) => k !== null)) {
+    if (!kinds.some((k) => k !== 'smooth')) return {};
+    return { kinds, tangents: c.tangents.map((a, i) => (kinds[i] === 'clamped' ? arrowToTangent(a, i, c) : null)) };
+  }
+  const tangents = Array(n).fill(null), ins = Array(n).fill(null), outs = Array(n).fill(null);
+  c.states.forEach(([a, b], i) => {
+    if (a === 'clamped' && b === 'clamped' && !c.inArrows[i]) tangents[i] = arrowToTangent(c.tangents[i], i, c);
+    else {
+      if (a === 'clamped') ins[i] = arrowToTangent(c.inArrows[i], i, c);
+      if (b === 'clamped') outs[i] = arrowToTangent(c.tangents[i], i, c);
+    }
+  });
+  const fields = { states: c.states.map(stateText) };
+  if (tangents.some(Boolean)) fields.tangents = tangents;
+  if (ins.some(Boolean)) fields.in_tangents = ins;
+  if (outs.some(Boolean)) fields.out_tangents = outs;
+  const corners = c.corners.map((v, i) => (cornerApplies(i, c) ? v : 0));
+  if (corners.some((v) => v !== 0)) fields.corners_deg = corners;
+  return fields;
+}
+
+/** Whether curve c needs the node model (a node that no kind expresses, or a corner angle kept
+ * at a free side): what the project's version 2 and the hash's "s" are for. */
+const usesNodeModel = (c) => c.states.some((_, i) => kindOf(i, c) === null || c.corners[i] !== 0);
 
 // ---------- URL hash ----------
 
@@ -529,8 +708,14 @@ function hashCurve(c) {
     m: c.method,
     o: c.options,
   };
-  if (c.kinds.some((k) => k !== 'smooth')) {
-    data.n = c.kinds.map((k) => KINDS.indexOf(k));
+  if (usesNodeModel(c)) {
+    // The node model: states as in·3 + out (indices of SIDES), both arrows, corner angles.
+    data.s = c.states.map(([a, b]) => SIDES.indexOf(a) * 3 + SIDES.indexOf(b));
+    data.t = c.tangents.map((t) => (t ? t.map(compact) : 0));
+    if (c.inArrows.some(Boolean)) data.i = c.inArrows.map((t) => (t ? t.map(compact) : 0));
+    if (c.corners.some((v) => v !== 0)) data.d = c.corners.map(compact);
+  } else if (c.states.some((_, i) => kindOf(i, c) !== 'smooth')) {
+    data.n = c.states.map((_, i) => KINDS.indexOf(kindOf(i, c)));
     data.t = c.tangents.map((t) => (t ? t.map(compact) : 0));
   }
   if (c.radii.some((r) => r > 0)) data.r = c.radii.map(compact);
@@ -548,6 +733,7 @@ function saveHash() {
     e: state.ensemble.map(entryToHash),
     k: state.comb ? 1 : 0,
     ...(state.combAll ? { K: 1 } : {}),
+    ...(state.snap ? { G: 1 } : {}),
     g: state.polygon ? 1 : 0,
     q: state.plot ? 1 : 0,
     v: [compact(state.view.x), compact(state.view.y), compact(state.view.w)],
@@ -563,8 +749,8 @@ function saveHash() {
 
 /** The state of an empty editor. */
 const freshState = () => ({
-  points: [], kinds: [], tangents: [], radii: [], closed: false, alpha: 0.5, method: schema.default,
-  options: {}, ensemble: [], comb: false, combAll: false, polygon: false, plot: true,
+  points: [], states: [], tangents: [], inArrows: [], corners: [], radii: [], closed: false, alpha: 0.5, method: schema.default,
+  options: {}, ensemble: [], comb: false, combAll: false, polygon: false, plot: true, snap: false,
   view: { x: 0, y: 0, w: FRAME_W }, selected: -1,
 });
 
@@ -575,19 +761,36 @@ function curveFromHash(data) {
     c.points = data.p.filter((p) => Array.isArray(p) && p.length === 2).map(([x, y]) => [+x, +y]);
   }
   const n = c.points.length;
-  c.kinds = Array(n).fill('smooth');
+  c.states = Array.from({ length: n }, () => ['regular', 'regular']);
   c.tangents = Array(n).fill(null);
+  c.inArrows = Array(n).fill(null);
+  c.corners = Array(n).fill(0);
   c.radii = Array(n).fill(0);
   if (Array.isArray(data.r) && data.r.length === n && data.r.every((r) => Number.isFinite(r) && r >= 0)) {
     c.radii = data.r.map(Number);
   }
-  if (Array.isArray(data.n) && Array.isArray(data.t) && data.n.length === n && data.t.length === n) {
+  const pair = (t) => (Array.isArray(t) && t.length === 2 && t.every(Number.isFinite) ? [+t[0], +t[1]] : null);
+  const listOf = (v) => (Array.isArray(v) && v.length === n ? v : null);
+  if (listOf(data.s) && listOf(data.t)) {
+    // The node model (see hashCurve); a node whose arrows are missing stays smooth.
+    const ins = listOf(data.i) ?? [], corners = listOf(data.d) ?? [];
+    data.s.forEach((code, i) => {
+      const st = [SIDES[Math.floor(code / 3)], SIDES[code % 3]];
+      if (!Number.isInteger(code) || !st[0] || !st[1]) return;
+      const out = pair(data.t[i]), inn = pair(ins[i]);
+      if ((st[1] === 'clamped' && !out) || (st[0] === 'clamped' && st[1] !== 'clamped' && !inn)) return;
+      c.states[i] = st;
+      c.tangents[i] = st[1] === 'clamped' ? out : null;
+      c.inArrows[i] = st[0] === 'clamped' ? inn : null;
+      if (Number.isFinite(corners[i])) c.corners[i] = +corners[i];
+    });
+  } else if (listOf(data.n) && listOf(data.t)) {
     data.n.forEach((k, i) => {
       const kind = KINDS[k] ?? 'smooth';
       const t = data.t[i];
-      if (kind === 'clamped' && !(Array.isArray(t) && t.length === 2)) return;
-      c.kinds[i] = kind;
-      c.tangents[i] = kind === 'clamped' ? [+t[0], +t[1]] : null;
+      if (kind === 'clamped' && !pair(t)) return;
+      c.states[i] = kindStates(kind);
+      c.tangents[i] = kind === 'clamped' ? pair(t) : null;
     });
   }
   c.closed = !!data.c;
@@ -624,6 +827,7 @@ function loadHash() {
     if (Array.isArray(data.e)) state.ensemble = entriesFrom(data.e);
     state.comb = !!data.k;
     state.combAll = !!data.K;
+    state.snap = !!data.G;
     state.polygon = !!data.g;
     state.plot = data.q == null ? true : !!data.q;
     if (Array.isArray(data.v) && data.v.length === 3 && data.v.every(Number.isFinite) && data.v[2] > 0) {
@@ -916,11 +1120,7 @@ function syncAlphaControl() {
 /** The request body of curve c's data (the selected one's by default) for `method` (the JSON
  * input of `fairspline fit`). */
 function requestBody(method, options, c = state) {
-  const body = { points: c.points, closed: c.closed, alpha: c.alpha, method };
-  if (c.kinds.some((k) => k !== 'smooth')) {
-    body.kinds = c.kinds;
-    body.tangents = c.tangents.map((a, i) => arrowToTangent(a, i, c));
-  }
+  const body = { points: c.points, closed: c.closed, alpha: c.alpha, method, ...nodeFields(c) };
   if (c.radii.some((r) => r > 0)) body.radii = c.radii;
   if (options && Object.keys(options).length) body.options = options;
   return body;
@@ -1060,6 +1260,7 @@ function applyView() {
   renderOtherCombs();
   renderReportMarks();
   renderControlPolygon();
+  renderGrid();
   renderError(); // "show point" depends on what is in view
 }
 
@@ -1160,15 +1361,19 @@ function renderPoints() {
   }
   const bad = mainError?.index;
   const r = POINT_R_PX * unit();
+  const chosen = new Set(selectedIndices());
   state.points.forEach(([x, y], i) => {
     const c = layer.children[i];
     c.setAttribute('cx', x);
     c.setAttribute('cy', y);
     c.setAttribute('r', r);
-    c.dataset.kind = state.kinds[i];
-    c.classList.toggle('selected', i === state.selected);
+    c.dataset.kind = kindOf(i) ?? 'node';
+    c.dataset.states = state.states[i].join('/');
+    c.classList.toggle('selected', chosen.has(i));
+    c.classList.toggle('primary', i === state.selected);
     c.classList.toggle('error', i === bad);
   });
+  renderEmptyHint();
   renderKinds();
 }
 
@@ -1207,41 +1412,97 @@ function renderKinds() {
         }));
       }
     }
-    if (state.kinds[i] === 'corner') {
+    if (r > 0) {
+      // The rim: dragging it sets the radius.
+      // (Its hit width is in world units: chromium hit-tests a non-scaling stroke at the wrong width.)
+      el.layerKinds.append(svg('circle', { cx: x, cy: y, r, class: 'ball-rim', 'stroke-width': 12 * u, 'data-rim': i, 'data-testid': `rim-${i}` }));
+    }
+    const [sideIn, sideOut] = state.states[i];
+    if (sideIn === 'free' || sideOut === 'free') {
+      // A free side splits the curve there: a square (both sides free: a corner), dashed for one.
       const h = 1.9 * POINT_R_PX * u;
-      el.layerKinds.append(svg('rect', { x: x - h, y: y - h, width: 2 * h, height: 2 * h, class: 'corner', 'data-testid': `corner-${i}` }));
-    } else if (state.kinds[i] === 'clamped' && state.tangents[i]) {
-      const [dx, dy] = state.tangents[i];
-      const tip = [x + dx, y + dy];
-      const len = Math.hypot(dx, dy) || 1;
-      const [ux, uy] = [dx / len, dy / len];
-      const head = 10 * u;
-      const g = svg('g', { class: 'tangent', 'data-testid': `tangent-${i}` });
+      const both = sideIn === sideOut;
+      el.layerKinds.append(svg('rect', { x: x - h, y: y - h, width: 2 * h, height: 2 * h, class: both ? 'corner' : 'corner half',
+        'data-testid': both ? `corner-${i}` : `free-${i}` }));
+    }
+    const arrows = nodeArrows(i);
+    const head = 10 * u;
+    const arrow = (from, tip, dir, cls, testid, handleAttrs) => {
+      const len = Math.hypot(...dir) || 1;
+      const [ux, uy] = [dir[0] / len, dir[1] / len];
+      // The head points along the direction of travel, at the tip (out) or at the node (in).
+      const at = cls === 'tangent' ? tip : from;
+      const g = svg('g', { class: cls, 'data-testid': testid });
       g.append(
-        svg('line', { x1: x, y1: y, x2: tip[0], y2: tip[1] }),
+        svg('line', { x1: from[0], y1: from[1], x2: tip[0], y2: tip[1] }),
         svg('polyline', {
-          points: [[tip[0] - head * (ux - 0.5 * uy), tip[1] - head * (uy + 0.5 * ux)], tip,
-            [tip[0] - head * (ux + 0.5 * uy), tip[1] - head * (uy - 0.5 * ux)]].map((p) => p.join(',')).join(' '),
+          points: [[at[0] - head * (ux - 0.5 * uy), at[1] - head * (uy + 0.5 * ux)], at,
+            [at[0] - head * (ux + 0.5 * uy), at[1] - head * (uy - 0.5 * ux)]].map((p) => p.join(',')).join(' '),
         }),
-        svg('circle', { cx: tip[0], cy: tip[1], r: 5 * u, class: 'handle', 'data-handle': i, 'data-testid': `handle-${i}` }),
+        svg('circle', { cx: tip[0], cy: tip[1], r: 5 * u, class: 'handle', ...handleAttrs }),
       );
       el.layerKinds.append(g);
+    };
+    if (arrows.out) {
+      const [dx, dy] = arrows.out;
+      arrow([x, y], [x + dx, y + dy], arrows.out, 'tangent', `tangent-${i}`, { 'data-handle': i, 'data-testid': `handle-${i}` });
+    }
+    if (arrows.in) {
+      // The incoming arrow is drawn backwards from the node, like the Bézier arm before it.
+      const [dx, dy] = arrows.in;
+      arrow([x, y], [x - dx, y - dy], arrows.in, 'tangent tangent-in', `tangent-in-${i}`, { 'data-handle-in': i, 'data-testid': `handle-in-${i}` });
     }
   });
 }
 
-/** The kind control in the panel follows the selected point. */
+/** A number for a panel field: exact for what was typed, 10 digits for what was computed. */
+const fieldText = (v) => (Number.isFinite(v) ? String(compact(v)) : '');
+
+/** The selected-node panel follows the selected point (the primary one of a selection). */
 function renderSelection() {
   const i = state.selected;
   const ok = i >= 0 && i < state.points.length;
   const kinds = capabilitiesOf(state.method).kinds;
+  const kind = ok ? kindOf(i) : null;
   el.kindBox.querySelectorAll('input').forEach((r) => {
     r.disabled = !ok || !kinds.includes(r.value);
-    r.checked = ok && r.value === state.kinds[i];
+    r.checked = ok && r.value === kind;
   });
   el.radius.disabled = !ok || !capabilitiesOf(state.method).data_balls;
-  if (document.activeElement !== el.radius) el.radius.value = ok ? String(state.radii[i] ?? 0) : '0';
-  el.kindLabel.textContent = ok ? `point ${i}` : 'no point selected';
+  const show = (input, text, enabled = ok) => {
+    input.disabled = !enabled;
+    if (document.activeElement !== input) { input.value = ok ? text : ''; input.classList.remove('invalid'); }
+  };
+  show(el.radius, ok ? String(state.radii[i] ?? 0) : '0');
+  if (!ok && document.activeElement !== el.radius) el.radius.value = '0';
+  show(el.nodeX, ok ? String(state.points[i][0]) : '');
+  show(el.nodeY, ok ? String(state.points[i][1]) : '');
+  for (const [select, k] of [[el.stateIn, 0], [el.stateOut, 1]]) {
+    select.disabled = !ok;
+    select.value = ok ? state.states[i][k] : 'regular';
+  }
+  const arrows = ok ? nodeArrows(i) : {};
+  const dir = arrows.out ?? arrows.in;
+  show(el.nodeDir, dir ? fieldText(angleOf(dir)) : '', !!dir);
+  // With no arrow, the direction shown is the fit's (a placeholder: typing needs a clamped side).
+  const fitted = ok && !dir && fitIndexOf(i) >= 0 ? mainFit.tangents?.[fitIndexOf(i)] : null;
+  el.nodeDir.placeholder = fitted ? `${fieldText(angleOf(fitted))} (fit)` : '';
+  const twoArrows = ok && state.states[i][0] === 'clamped' && state.states[i][1] === 'clamped';
+  const corner = !ok ? 0 : twoArrows && state.inArrows[i] ? normalDeg(angleOf(arrows.out) - angleOf(arrows.in)) : state.corners[i];
+  show(el.nodeCorner, fieldText(corner), ok && !state.states[i].includes('free'));
+  const count = selectedIndices().length;
+  el.transformTarget.textContent = count ? `the ${count} selected point${count > 1 ? 's' : ''}` : 'the whole curve';
+  const states = ok ? state.states[i].join(' / ') : '';
+  el.kindLabel.textContent = !ok ? 'no point selected'
+    : `point ${i} (in / out: ${states})${count > 1 ? ` · ${count} points selected` : ''}`;
+}
+
+/** An angle in degrees in (−180, 180]. */
+function normalDeg(d) {
+  let v = d % 360;
+  if (v > 180) v -= 360;
+  if (v <= -180) v += 360;
+  return v;
 }
 
 /** Curvature comb of the main curve: teeth along the normal, length ∝ signed curvature. */
@@ -1626,33 +1887,52 @@ document.addEventListener('focusin', (evt) => { if (!el.canvas.contains(evt.targ
 
 el.canvas.addEventListener('pointerdown', (evt) => {
   el.canvas.focus({ preventScroll: true });
-  const { index, handle, curve } = evt.target.dataset ?? {};
+  const { index, handle, handleIn, rim, curve } = evt.target.dataset ?? {};
+  const onMark = index !== undefined || handle !== undefined || handleIn !== undefined || rim !== undefined;
   if (curve !== undefined && evt.button === 0 && !evt.shiftKey && !evt.altKey) {
     // A press on another curve of the document selects it (its click adds no point).
     evt.preventDefault();
     selectCurve(Number(curve));
     return;
   }
-  if (evt.button === 1 || (evt.button === 0 && index === undefined && handle === undefined)) {
-    // Background (or middle button anywhere): a click adds a point, a drag pans.
-    drag = { type: evt.button === 1 ? 'pan' : 'press', start: [evt.clientX, evt.clientY], view: { ...state.view }, ctm: el.canvas.getScreenCTM() };
-    if (evt.button === 1) evt.preventDefault();
+  if (evt.button === 1 || (evt.button === 0 && !onMark)) {
+    // Background (or middle button anywhere): a click adds a point, a drag pans; with Shift a
+    // drag selects the points in its box.
+    const type = evt.button === 1 ? 'pan' : evt.shiftKey ? 'box' : 'press';
+    drag = { type, start: [evt.clientX, evt.clientY], from: toWorld(evt), view: { ...state.view }, ctm: el.canvas.getScreenCTM() };
+    if (evt.button === 1 || evt.shiftKey) evt.preventDefault();
     return;
   }
   if (evt.button !== 0) return;
   evt.preventDefault();
-  if (handle !== undefined) {
-    drag = { type: 'handle', index: Number(handle), moved: false };
+  if (handle !== undefined || handleIn !== undefined) {
+    drag = { type: handle !== undefined ? 'handle' : 'handle-in', index: Number(handle ?? handleIn), moved: false };
+    return;
+  }
+  if (rim !== undefined) {
+    drag = { type: 'rim', index: Number(rim), moved: false };
     return;
   }
   const i = Number(index);
-  if (evt.shiftKey) {
+  if (evt.ctrlKey || evt.metaKey) {
+    // Ctrl-click (Cmd-click) removes the point.
     removePoint(i);
     swallowNextClick();
     return;
   }
-  state.selected = i;
-  drag = { type: 'point', index: i, moved: false };
+  if (evt.shiftKey) {
+    toggleSelected(i);
+    swallowNextClick();
+    return;
+  }
+  // A press on a point of the selection drags the whole selection; on another point, that one.
+  if (!selectedIndices().includes(i)) selectOnly(i);
+  else state.selected = i;
+  const moving = selectedIndices();
+  drag = {
+    type: 'point', index: i, moved: false, from: toWorld(evt),
+    orig: new Map(moving.map((j) => [j, [...state.points[j]]])),
+  };
   renderPoints();
   renderSelection();
 });
@@ -1667,34 +1947,128 @@ window.addEventListener('pointermove', (evt) => {
     setView({ x: drag.view.x - dx / drag.ctm.a, y: drag.view.y - dy / drag.ctm.d, w: drag.view.w });
     return;
   }
+  const q = toWorld(evt);
+  if (drag.type === 'box') {
+    drag.to = q;
+    renderBox();
+    return;
+  }
   if (!drag.moved) pushHistory(); // one undo step per drag
   drag.moved = true;
-  const q = toWorld(evt);
   const i = drag.index;
+  const [x, y] = state.points[i];
+  const far = Math.hypot(q[0] - x, q[1] - y) > 1e-9 * unit();
   if (drag.type === 'handle') {
-    const [x, y] = state.points[i];
-    if (Math.hypot(q[0] - x, q[1] - y) > 1e-9 * unit()) state.tangents[i] = [q[0] - x, q[1] - y];
+    if (far) state.tangents[i] = [q[0] - x, q[1] - y];
+  } else if (drag.type === 'handle-in') {
+    // The incoming arrow is drawn backwards: its direction is from the tip to the node.
+    if (far) {
+      state.inArrows[i] = [x - q[0], y - q[1]];
+      if (state.states[i][1] === 'clamped') state.corners[i] = 0; // two arrows say the angle
+    }
+  } else if (drag.type === 'rim') {
+    state.radii[i] = Math.hypot(q[0] - x, q[1] - y);
   } else {
-    state.points[i] = q;
+    // The grabbed point follows the pointer (snapped), the rest of the selection with it.
+    const o = drag.orig.get(i);
+    const target = snapPoint([o[0] + q[0] - drag.from[0], o[1] + q[1] - drag.from[1]], new Set(drag.orig.keys()));
+    const d = [target[0] - o[0], target[1] - o[1]];
+    for (const [j, p] of drag.orig) state.points[j] = [p[0] + d[0], p[1] + d[1]];
   }
   changed();
 });
 
-window.addEventListener('pointerup', () => {
+window.addEventListener('pointerup', (evt) => {
   if (!drag) return;
+  if (drag.type === 'box') {
+    // The points inside the box join the selection (a Shift-drag: the selection is kept).
+    const to = drag.to ?? drag.from;
+    const [x0, x1] = [Math.min(drag.from[0], to[0]), Math.max(drag.from[0], to[0])];
+    const [y0, y1] = [Math.min(drag.from[1], to[1]), Math.max(drag.from[1], to[1])];
+    const inside = state.points.map((p, i) => (p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1 ? i : -1)).filter((i) => i >= 0);
+    if (inside.length) selectMany(inside, true);
+    drag = null;
+    renderBox();
+    swallowNextClick();
+    return;
+  }
   // The click that ends a drag, a pan or a press on a point never adds a point.
   if (drag.type !== 'press') swallowNextClick();
   drag = null;
 });
 
 el.canvas.addEventListener('click', (evt) => {
-  if (suppressClick || evt.target.dataset?.index !== undefined || evt.target.dataset?.handle !== undefined) return;
-  if (evt.target.dataset?.curve !== undefined && !evt.shiftKey && !evt.altKey) return;
+  const d = evt.target.dataset ?? {};
+  if (suppressClick || d.index !== undefined || d.handle !== undefined || d.handleIn !== undefined || d.rim !== undefined) return;
+  if (d.curve !== undefined && !evt.shiftKey && !evt.altKey) return;
   if (evt.button !== 0 || evt.shiftKey) return;
   const q = toWorld(evt);
   if (evt.altKey) { insertOnCurve(q); return; }
-  insertPoint(state.points.length, q);
+  insertPoint(state.points.length, snapPoint(q));
 });
+
+/** The rubber band of a Shift-drag on the background. */
+function renderBox() {
+  el.layerBox.replaceChildren();
+  if (drag?.type !== 'box' || !drag.to) return;
+  const [a, b] = [drag.from, drag.to];
+  el.layerBox.append(svg('rect', {
+    x: Math.min(a[0], b[0]), y: Math.min(a[1], b[1]), width: Math.abs(a[0] - b[0]), height: Math.abs(a[1] - b[1]),
+    'data-testid': 'select-box',
+  }));
+}
+
+// ---------- snapping ----------
+
+const SNAP_PX = 8;   // a point snaps to another within this many screen pixels
+const GRID_PX = 20;  // the grid step is the first 1, 2, 5 × 10^k at least this many pixels of the default view
+
+/** World units per screen pixel. */
+function pixelWorld() {
+  const a = Math.abs(el.world.getScreenCTM()?.a ?? 0);
+  return a > 0 ? 1 / a : unit();
+}
+
+/** The grid step: 1, 2 or 5 × 10^k world units, the first at least GRID_PX of the default view
+ * (20 units at zoom 1×, 2 at 10×). */
+function gridStep() {
+  const v = GRID_PX * unit();
+  const p = 10 ** Math.floor(Math.log10(v));
+  return [1, 2, 5, 10].map((m) => m * p).find((s) => s >= v * (1 - 1e-12));
+}
+
+/**
+ * With snapping on: q moved onto a point (of any visible curve, but not those in `exclude` of
+ * the selected one) within SNAP_PX screen pixels, else onto the nearest grid node.
+ */
+function snapPoint(q, exclude = new Set()) {
+  if (!state.snap) return q;
+  const reach = SNAP_PX * pixelWorld();
+  let best = null, bestD = reach;
+  const consider = (p) => {
+    const d = Math.hypot(p[0] - q[0], p[1] - q[1]);
+    if (d <= bestD) { best = p; bestD = d; }
+  };
+  state.points.forEach((p, i) => { if (!exclude.has(i)) consider(p); });
+  doc.curves.forEach((c, i) => { if (i !== doc.selected && c.visible) c.points.forEach(consider); });
+  if (best) return [best[0], best[1]];
+  const g = gridStep();
+  return [Math.round(q[0] / g) * g, Math.round(q[1] / g) * g];
+}
+
+/** The grid, drawn while snapping is on, over the visible area. */
+function renderGrid() {
+  el.layerGrid.replaceChildren();
+  el.snapLabel.textContent = state.snap ? `(grid ${fmt(gridStep())})` : '';
+  if (!state.snap) return;
+  const g = gridStep();
+  const v = visibleRect();
+  const [wx0, wx1] = [v.x0, v.x1];
+  const [wy0, wy1] = [FRAME_H - v.y1, FRAME_H - v.y0];
+  if ((wx1 - wx0) / g > 400 || (wy1 - wy0) / g > 400) return;
+  for (let x = Math.ceil(wx0 / g) * g; x <= wx1; x += g) el.layerGrid.append(svg('line', { x1: x, y1: wy0, x2: x, y2: wy1 }));
+  for (let y = Math.ceil(wy0 / g) * g; y <= wy1; y += g) el.layerGrid.append(svg('line', { x1: wx0, y1: y, x2: wx1, y2: y }));
+}
 
 el.canvas.addEventListener('wheel', (evt) => {
   evt.preventDefault();
@@ -1746,22 +2120,58 @@ window.addEventListener('keydown', (evt) => {
     saveProject();
     return;
   }
+  if (!el.help.hidden) {
+    // The help overlay takes Esc (and ?) only; its Close button keeps Tab and Enter.
+    if (evt.key === 'Escape' || evt.key === '?') { evt.preventDefault(); showHelp(false); }
+    return;
+  }
   if (!pointerOnCanvas && typesText(evt.target)) return;
+  // Arrows, Enter and Ctrl+A are also a radio group's, a button's and a field's keys: they act
+  // on the points only while the canvas has the focus.
+  const onCanvas = evt.target === el.canvas || evt.target === document.body;
   if ((evt.ctrlKey || evt.metaKey) && (key === 'z' || key === 'y')) {
     evt.preventDefault();
     if (key === 'y' || evt.shiftKey) redo(); else undo();
     return;
   }
+  if ((evt.ctrlKey || evt.metaKey) && !evt.altKey && key === 'a' && onCanvas) {
+    evt.preventDefault();
+    selectMany(state.points.map((_, i) => i));
+    return;
+  }
   if (evt.ctrlKey || evt.metaKey || evt.altKey) return;
-  if ((evt.key === 'Delete' || evt.key === 'Backspace') && state.selected >= 0) {
-    removePoint(state.selected);
+  const targets = selectedIndices();
+  const ARROWS = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, 1], ArrowDown: [0, -1] };
+  if ((evt.key === 'Delete' || evt.key === 'Backspace') && targets.length) {
+    removePoints(targets);
+  } else if (ARROWS[evt.key] && onCanvas && targets.length) {
+    const step = (evt.shiftKey ? 10 : 1) * pixelWorld();
+    movePoints(targets, ARROWS[evt.key].map((v) => v * step), 'nudge');
   } else if (evt.key === 'Escape') {
-    state.selected = -1;
+    selectOnly(-1);
     renderPoints();
     renderSelection();
-  } else if (key === 'k' && state.selected >= 0) {
-    const i = state.selected;
-    setKind(i, KINDS[(KINDS.indexOf(state.kinds[i]) + 1) % KINDS.length]);
+  } else if (key === 'k' && targets.length) {
+    const kind = kindOf(state.selected);
+    setKind(targets, KINDS[(KINDS.indexOf(kind) + 1) % KINDS.length]);
+  } else if ((key === 'i' || key === 'o') && targets.length) {
+    const k = key === 'i' ? 0 : 1;
+    setSide(targets, key === 'i' ? 'in' : 'out', nextSide(state.states[state.selected][k]));
+  } else if ((key === 'n' || key === 'p') && state.points.length) {
+    // The next / previous point (Shift: added to the selection).
+    const n = state.points.length;
+    const from = state.selected;
+    const j = from < 0 ? (key === 'n' ? 0 : n - 1) : (from + (key === 'n' ? 1 : n - 1)) % n;
+    if (evt.shiftKey) selectMany([j], true);
+    else { selectOnly(j); renderPoints(); renderSelection(); }
+  } else if (evt.key === 'Enter' && onCanvas) {
+    insertAfterSelected();
+  } else if (key === 'c' && !evt.shiftKey) {
+    setClosed(!state.closed);
+  } else if (key === 'g' && !evt.shiftKey) {
+    setSnap(!state.snap);
+  } else if (evt.key === '?') {
+    showHelp(true);
   } else if (evt.key === '+' || evt.key === '=') {
     zoomCenter(1.25);
   } else if (evt.key === '-') {
@@ -1775,6 +2185,130 @@ window.addEventListener('keydown', (evt) => {
   }
   evt.preventDefault(); // the key was the canvas's, not a control's
 });
+
+/** Moves the points by d (world units); `group`: consecutive moves of that kind (nudges) make
+ * one undo step until another action. */
+function movePoints(indices, [dx, dy], group = null) {
+  if (!indices.length) return;
+  pushHistory(group);
+  for (const i of indices) state.points[i] = [state.points[i][0] + dx, state.points[i][1] + dy];
+  changed();
+}
+
+/**
+ * Enter: a new point after the selected one (none selected: after the last), in the middle of
+ * the curve's span to the next point (the chord's middle without a fit); after the last point of
+ * an open curve, one chord further on; the first point in the middle of the view.
+ */
+function insertAfterSelected() {
+  const n = state.points.length;
+  const i = state.selected >= 0 ? state.selected : n - 1;
+  let q;
+  if (n === 0) {
+    const v = visibleRect();
+    q = [(v.x0 + v.x1) / 2, FRAME_H - (v.y0 + v.y1) / 2];
+  } else if (i < n - 1 || (state.closed && n >= 2)) {
+    const a = state.points[i], b = state.points[(i + 1) % n];
+    q = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
+    const k = fitIndexOf(i);
+    const segs = k >= 0 ? mainFit.segments.filter((s) => s.span === k) : [];
+    if (segs.length) q = segs.length % 2 ? pointAt(segs[(segs.length - 1) / 2].bezier, 0.5) : [...segs[segs.length / 2].bezier[0]];
+  } else {
+    const a = state.points[i];
+    const prev = n >= 2 ? state.points[i - 1] : [a[0] - 50 * pixelWorld(), a[1]];
+    q = [2 * a[0] - prev[0], 2 * a[1] - prev[1]];
+  }
+  insertPoint(i + 1, q);
+}
+
+function setClosed(closed) {
+  if (closed === state.closed || el.closed.disabled) return;
+  pushHistory();
+  state.closed = closed;
+  el.closed.checked = closed;
+  changed();
+}
+
+/** Snapping on or off (a display setting, like the comb: not an undo step). */
+function setSnap(on) {
+  state.snap = on;
+  el.snap.checked = on;
+  renderGrid();
+  saveHash();
+}
+
+// ---------- transforms of the selection (or of the whole curve) ----------
+
+/**
+ * Curve Ensemble's tools, about the centroid of the points transformed (the selection, or every
+ * point when none is selected); one undo step each. The arrows turn, scale and mirror with the
+ * points, data-ball radii scale by |factor|, and a reflection turns corner angles the other way.
+ */
+function transformPoints(op, value = null) {
+  const chosen = selectedIndices();
+  const idx = chosen.length ? chosen : state.points.map((_, i) => i);
+  if (!idx.length) return;
+  if ((op === 'rotate' || op === 'scale') && !Number.isFinite(value)) return;
+  if (op === 'scale' && value === 0) return;
+  const cx = idx.reduce((s, i) => s + state.points[i][0], 0) / idx.length;
+  const cy = idx.reduce((s, i) => s + state.points[i][1], 0) / idx.length;
+  const vec = {
+    translate: (v) => v,
+    rotate: (v) => rotateVec(v, value),
+    scale: (v) => [v[0] * value, v[1] * value],
+    'reflect-x': ([x, y]) => [-x, y],
+    'reflect-y': ([x, y]) => [x, -y],
+  }[op];
+  pushHistory();
+  for (const i of idx) {
+    const [x, y] = state.points[i];
+    if (op === 'translate') {
+      state.points[i] = [x + value[0], y + value[1]];
+      continue;
+    }
+    const d = vec([x - cx, y - cy]);
+    state.points[i] = [cx + d[0], cy + d[1]];
+    if (state.tangents[i]) state.tangents[i] = vec(state.tangents[i]);
+    if (state.inArrows[i]) state.inArrows[i] = vec(state.inArrows[i]);
+    if (op === 'scale') state.radii[i] *= Math.abs(value);
+    if (op.startsWith('reflect') && state.corners[i] !== 0) state.corners[i] = -state.corners[i];
+  }
+  forgetErrorIndex();
+  changed();
+}
+
+// ---------- help overlay and the empty canvas ----------
+
+let helpReturn = null; // the element that had the focus before the overlay opened
+
+function showHelp(open) {
+  if (open === !el.help.hidden) return;
+  if (open) {
+    helpReturn = document.activeElement;
+    el.help.hidden = false;
+    $('help-close').focus();
+  } else {
+    el.help.hidden = true;
+    (helpReturn && helpReturn !== document.body ? helpReturn : el.canvas).focus({ preventScroll: true });
+  }
+}
+
+// The example of examples/li-example1.csv.
+const EXAMPLE_POINTS = [[1, 90], [3, 105], [6, 120], [10, 100], [12, 85], [15, 104], [17, 80]];
+
+/** "Load example": the example's points in the selected curve (one undo step), framed, and the
+ * focus on the canvas so that the keys go on working on it. */
+function loadExample() {
+  pushHistory();
+  replacePoints(EXAMPLE_POINTS.map(([x, y]) => [x, y]));
+  fitView();
+  el.canvas.focus({ preventScroll: true });
+}
+
+/** The hint on an empty canvas. */
+function renderEmptyHint() {
+  el.emptyHint.hidden = state.points.length > 0;
+}
 
 // ---------- exports ----------
 
@@ -1895,16 +2429,22 @@ $('export-png').addEventListener('click', async () => {
  */
 function projectText() {
   storeSelected();
+  // Version 1 as long as every node is a kind (older editors read it); the node model needs 2.
+  const nodes = doc.curves.some(usesNodeModel);
   const curves = doc.curves.map((c) => ({
     name: c.name, visible: c.visible, color: c.color, method: c.method, options: c.options,
-    alpha: c.alpha, closed: c.closed, points: c.points, kinds: c.kinds, arrows: c.tangents, radii: c.radii,
+    alpha: c.alpha, closed: c.closed, points: c.points,
+    ...(nodes ? { states: c.states.map(stateText), arrows: c.tangents, in_arrows: c.inArrows, corners_deg: c.corners }
+      : { kinds: c.states.map((_, i) => kindOf(i, c)), arrows: c.tangents }),
+    radii: c.radii,
   }));
   const project = {
-    format: PROJECT_FORMAT, version: PROJECT_VERSION, selected: doc.selected, curves,
+    format: PROJECT_FORMAT, version: nodes ? PROJECT_VERSION : 1, selected: doc.selected, curves,
     view: { x: state.view.x, y: state.view.y, w: state.view.w },
     display: {
       ensemble: state.ensemble.map(entryToProject), comb: state.comb, polygon: state.polygon, plot: state.plot,
       ...(state.combAll ? { combAll: true } : {}),
+      ...(state.snap ? { snap: true } : {}),
     },
   };
   return `${JSON.stringify(project, null, 1)}\n`;
@@ -1940,8 +2480,8 @@ function openProject(text, source) {
   otherFits.clear();
   if (project.display) {
     state.ensemble = entriesFrom(project.display.ensemble);
-    const { comb, combAll, polygon, plot } = project.display;
-    Object.assign(state, { comb, combAll, polygon, plot });
+    const { comb, combAll, polygon, plot, snap } = project.display;
+    Object.assign(state, { comb, combAll, polygon, plot, snap });
     syncControls();
     buildEnsemble();
   }
@@ -2021,11 +2561,25 @@ function importText(text, source) {
     el.method.value = state.method;
     buildOptionsForm();
   }
-  replacePoints(parsed.points, parsed.kinds, parsed.radii);
+  const states = parsed.states ?? parsed.kinds?.map(kindStates);
+  replacePoints(parsed.points, states, parsed.radii);
   // A file gives tangents (derivatives); the editor keeps arrows (see knotSpan). A Curve
-  // Ensemble file gives directions, made arrows by the parser.
-  if (parsed.tangents) state.tangents = parsed.tangents.map((t, i) => (state.kinds[i] === 'clamped' ? tangentToArrow(t, i) : null));
-  if (parsed.arrows) state.tangents = parsed.arrows.map((a, i) => (state.kinds[i] === 'clamped' ? a : null));
+  // Ensemble file gives directions, made arrows by the parser. With the node model, `tangents`
+  // set both sides and `in_tangents` / `out_tangents` one.
+  const n = parsed.points.length;
+  const given = (list, i) => (list?.[i] ? tangentToArrow(list[i], i) : null);
+  for (let i = 0; i < n; i++) {
+    const [a, b] = state.states[i];
+    const both = parsed.arrows?.[i] ?? given(parsed.tangents, i);
+    if (b === 'clamped') state.tangents[i] = given(parsed.outTangents, i) ?? both;
+    if (a === 'clamped') {
+      const inn = given(parsed.inTangents, i);
+      // One arrow for both clamped sides unless the file gives the incoming one apart.
+      state.inArrows[i] = b === 'clamped' && !inn ? null : inn ?? both;
+    }
+  }
+  if (parsed.corners) state.corners = [...parsed.corners];
+  for (let i = 0; i < n; i++) if (state.inArrows[i] && state.states[i][1] === 'clamped') state.corners[i] = 0;
   renderCurvesPanel();
   fitView();
 }
@@ -2056,12 +2610,15 @@ el.undo.addEventListener('click', undo);
 el.redo.addEventListener('click', redo);
 
 /** Replaces all points and forgets every fit of the old ones. */
-function replacePoints(points, kinds = null, radii = null) {
+function replacePoints(points, states = null, radii = null) {
+  const n = points.length;
   state.points = points;
-  state.kinds = kinds ?? Array(points.length).fill('smooth');
-  state.tangents = Array(points.length).fill(null);
-  state.radii = radii ?? Array(points.length).fill(0);
-  state.selected = -1;
+  state.states = states ?? Array.from({ length: n }, () => ['regular', 'regular']);
+  state.tangents = Array(n).fill(null);
+  state.inArrows = Array(n).fill(null);
+  state.corners = Array(n).fill(0);
+  state.radii = radii ?? Array(n).fill(0);
+  selectOnly(-1);
   mainFit = null;
   mainStale = false;
   mainError = null;
@@ -2115,18 +2672,79 @@ el.alphaNumber.addEventListener('input', () => {
 });
 el.alphaNumber.addEventListener('change', endHistoryGroup);
 el.kindBox.addEventListener('change', (evt) => {
-  if (evt.target.name === 'kind') setKind(state.selected, evt.target.value);
+  if (evt.target.name === 'kind') setKind(editTargets(), evt.target.value);
 });
+
+/** The number typed in a panel field, or null (the field marked invalid) when it is not one or
+ * `ok` refuses it. */
+function typedNumber(input, ok = () => true) {
+  const v = Number(input.value);
+  const good = input.value.trim() !== '' && Number.isFinite(v) && ok(v);
+  input.classList.toggle('invalid', !good);
+  return good ? v : null;
+}
+
+// The radius, the sides and the corner apply to every selected point; x, y and the direction
+// to the one the panel shows. Each change is one undo step.
 el.radius.addEventListener('change', () => {
-  const i = state.selected;
-  const v = Number(el.radius.value);
-  const ok = el.radius.value.trim() !== '' && Number.isFinite(v) && v >= 0;
-  el.radius.classList.toggle('invalid', !ok);
-  if (!ok || i < 0 || i >= state.points.length || state.radii[i] === v) return;
+  const v = typedNumber(el.radius, (r) => r >= 0);
+  const todo = editTargets().filter((i) => state.radii[i] !== v);
+  if (v == null || !todo.length) return;
   pushHistory();
-  state.radii[i] = v;
+  for (const i of todo) state.radii[i] = v;
   changed();
 });
+for (const [input, k] of [[el.nodeX, 0], [el.nodeY, 1]]) {
+  input.addEventListener('change', () => {
+    const i = state.selected;
+    const v = typedNumber(input);
+    if (v == null || i < 0 || i >= state.points.length || state.points[i][k] === v) return;
+    pushHistory();
+    state.points[i] = k === 0 ? [v, state.points[i][1]] : [state.points[i][0], v];
+    changed();
+  });
+}
+el.stateIn.addEventListener('change', () => setSide(editTargets(), 'in', el.stateIn.value));
+el.stateOut.addEventListener('change', () => setSide(editTargets(), 'out', el.stateOut.value));
+el.nodeDir.addEventListener('change', () => {
+  // Turns the point's arrow (the outgoing one, else the incoming one) to the typed direction.
+  const i = state.selected;
+  const v = typedNumber(el.nodeDir);
+  if (v == null || i < 0 || i >= state.points.length) return;
+  const key = state.tangents[i] ? 'tangents' : state.inArrows[i] ? 'inArrows' : null;
+  if (!key) return;
+  const a = state[key][i];
+  const len = Math.hypot(...a);
+  const r = (v * Math.PI) / 180;
+  pushHistory();
+  state[key][i] = [len * Math.cos(r), len * Math.sin(r)];
+  changed();
+});
+el.nodeCorner.addEventListener('change', () => {
+  // The corner angle kept by a regular node ("respect corner"), strictly inside ±180°. At a node
+  // clamped on both sides it turns the incoming arrow: that one follows the outgoing one.
+  const v = typedNumber(el.nodeCorner, (d) => d > -180 && d < 180);
+  const todo = editTargets().filter((i) => !state.states[i].includes('free'));
+  if (v == null || !todo.length) return;
+  pushHistory();
+  for (const i of todo) {
+    state.corners[i] = v;
+    if (state.states[i][1] === 'clamped') state.inArrows[i] = null;
+  }
+  changed();
+});
+el.snap.addEventListener('change', () => setSnap(el.snap.checked));
+$('help-open').addEventListener('click', () => showHelp(true));
+$('help-close').addEventListener('click', () => showHelp(false));
+$('load-example').addEventListener('click', loadExample);
+$('tf-translate').addEventListener('click', () => {
+  const dx = typedNumber($('tf-dx')), dy = typedNumber($('tf-dy'));
+  if (dx != null && dy != null) transformPoints('translate', [dx, dy]);
+});
+$('tf-rotate').addEventListener('click', () => transformPoints('rotate', typedNumber($('tf-angle'))));
+$('tf-scale').addEventListener('click', () => transformPoints('scale', typedNumber($('tf-factor'), (f) => f !== 0)));
+$('tf-reflect-x').addEventListener('click', () => transformPoints('reflect-x'));
+$('tf-reflect-y').addEventListener('click', () => transformPoints('reflect-y'));
 el.polygon.addEventListener('change', () => { state.polygon = el.polygon.checked; renderControlPolygon(); saveHash(); });
 el.comb.addEventListener('change', () => { state.comb = el.comb.checked; renderComb(); saveHash(); });
 el.reportPanel.addEventListener('toggle', renderReportPanel);
@@ -2150,6 +2768,7 @@ function syncControls() {
   el.closed.checked = state.closed;
   el.comb.checked = state.comb;
   el.combAll.checked = state.combAll;
+  el.snap.checked = state.snap;
   el.polygon.checked = state.polygon;
   el.plotToggle.checked = state.plot;
   syncAlphaControl();

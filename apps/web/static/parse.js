@@ -5,6 +5,14 @@
 // (parseProject). Throws Error with a sentence that names the line or the field.
 
 const KINDS = ['smooth', 'clamped', 'corner'];
+const SIDES = ['regular', 'clamped', 'free'];
+
+/** A node's states, one string for both sides or [in, out], as [in, out]; null if malformed. */
+function sidesOf(v) {
+  if (SIDES.includes(v)) return [v, v];
+  if (Array.isArray(v) && v.length === 2 && v.every((x) => SIDES.includes(x))) return [v[0], v[1]];
+  return null;
+}
 
 const finitePair = (v) => Array.isArray(v) && v.length === 2 && v.every((x) => typeof x === 'number' && Number.isFinite(x));
 
@@ -45,10 +53,26 @@ function fromJson(text) {
     data.kinds.forEach((k, i) => { if (!KINDS.includes(k)) throw new Error(`kinds[${i}]: expected smooth, clamped or corner, got ${JSON.stringify(k)}`); });
     out.kinds = [...data.kinds];
   }
-  if (data.tangents != null) {
-    if (!Array.isArray(data.tangents) || data.tangents.length !== n) throw new Error(`"tangents" must have one entry per point (${n})`);
-    data.tangents.forEach((t, i) => { if (t !== null && !finitePair(t)) throw new Error(`tangents[${i}] is not [x, y] or null`); });
-    out.tangents = data.tangents.map((t) => (t ? [...t] : null));
+  if (data.states != null) {
+    // The node model (docs/methods/min-energy.md, "Node states").
+    if (data.kinds != null) throw new Error('the node kinds are given twice, as "kinds" and as "states"; give one of them');
+    if (!Array.isArray(data.states) || data.states.length !== n) throw new Error(`"states" must list one state per point (${n})`);
+    out.states = data.states.map((v, i) => {
+      const st = sidesOf(v);
+      if (!st) throw new Error(`states[${i}]: expected regular, clamped, free or a pair [in, out] of them, got ${JSON.stringify(v)}`);
+      return st;
+    });
+  }
+  for (const [key, name] of [['tangents', 'tangents'], ['in_tangents', 'inTangents'], ['out_tangents', 'outTangents']]) {
+    if (data[key] == null) continue;
+    if (!Array.isArray(data[key]) || data[key].length !== n) throw new Error(`"${key}" must have one entry per point (${n})`);
+    data[key].forEach((t, i) => { if (t !== null && !finitePair(t)) throw new Error(`${key}[${i}] is not [x, y] or null`); });
+    out[name] = data[key].map((t) => (t ? [...t] : null));
+  }
+  if (data.corners_deg != null) {
+    if (!Array.isArray(data.corners_deg) || data.corners_deg.length !== n) throw new Error(`"corners_deg" must list one angle per point (${n})`);
+    data.corners_deg.forEach((v, i) => { if (typeof v !== 'number' || !Number.isFinite(v)) throw new Error(`corners_deg[${i}] is not a number`); });
+    out.corners = [...data.corners_deg];
   }
   // Clamped end tangents (the library's start_tangent / end_tangent) are clamped end points here.
   for (const [key, i] of [['start_tangent', 0], ['end_tangent', n - 1]]) {
@@ -166,8 +190,15 @@ export function parseImport(text) {
   const out = trimmed.startsWith(CE_HEADER) ? fromCurveEnsemble(trimmed)
     : trimmed.startsWith('{') || trimmed.startsWith('[') ? fromJson(trimmed) : fromCsv(trimmed);
   if (!out.points.length) throw new Error('no points found');
-  // A tangent makes a point clamped unless its kind says otherwise.
-  if (out.tangents && !out.kinds) out.kinds = out.tangents.map((t) => (t ? 'clamped' : 'smooth'));
+  // A tangent makes a point clamped unless its kind (or state) says otherwise.
+  if (out.tangents && !out.kinds && !out.states) out.kinds = out.tangents.map((t) => (t ? 'clamped' : 'smooth'));
+  if (out.states) {
+    out.states.forEach(([a, b], i) => {
+      const any = out.tangents?.[i];
+      if (a === 'clamped' && !any && !out.inTangents?.[i] && !(b === 'clamped' && out.outTangents?.[i])) throw new Error(`point ${i} is clamped on its incoming side but has no direction there`);
+      if (b === 'clamped' && !any && !out.outTangents?.[i] && !(a === 'clamped' && out.inTangents?.[i])) throw new Error(`point ${i} is clamped on its outgoing side but has no direction there`);
+    });
+  }
   if (out.kinds) {
     out.kinds.forEach((k, i) => {
       if (k === 'clamped' && !out.tangents?.[i] && !out.arrows?.[i]) throw new Error(`point ${i} is clamped but has no tangent`);
@@ -179,7 +210,7 @@ export function parseImport(text) {
 // ---------- the editor's project file ----------
 
 export const PROJECT_FORMAT = 'fairspline-project';
-export const PROJECT_VERSION = 1;
+export const PROJECT_VERSION = 2; // 2: the node model (states, in_arrows, corners_deg)
 
 /** Whether the text is a project file (of any version): a JSON object with its "format". */
 export function isProject(text) {
@@ -198,10 +229,23 @@ function projectCurve(c, at) {
     c[key].forEach((v, i) => { if (!ok(v)) throw new Error(`${where}.${key}[${i}] is not ${what}`); });
     return c[key];
   };
-  const kinds = list('kinds', (k) => KINDS.includes(k), 'smooth, clamped or corner');
   const arrows = list('arrows', (a) => a === null || finitePair(a), '[dx, dy] or null');
   const radii = list('radii', (r) => typeof r === 'number' && Number.isFinite(r) && r >= 0, 'a radius (a number >= 0)');
-  kinds.forEach((k, i) => { if (k === 'clamped' && !arrows[i]) throw new Error(`${where}: point ${i} is clamped but has no arrow`); });
+  // Version 1 gives kinds; version 2 may give the node model's states instead.
+  let states, inArrows = Array(n).fill(null), corners = Array(n).fill(0);
+  if (c.states != null) {
+    states = list('states', (v) => sidesOf(v) !== null, 'regular, clamped, free or [in, out] of them').map(sidesOf);
+    if (c.in_arrows != null) inArrows = list('in_arrows', (a) => a === null || finitePair(a), '[dx, dy] or null').map((a) => (a ? [...a] : null));
+    if (c.corners_deg != null) corners = [...list('corners_deg', (v) => typeof v === 'number' && Number.isFinite(v) && v > -180 && v < 180, 'an angle strictly between -180 and 180')];
+    states.forEach(([a, b], i) => {
+      if (b === 'clamped' && !arrows[i]) throw new Error(`${where}: point ${i} is clamped on its outgoing side but has no arrow`);
+      if (a === 'clamped' && b !== 'clamped' && !inArrows[i]) throw new Error(`${where}: point ${i} is clamped on its incoming side but has no in_arrow`);
+    });
+  } else {
+    const kinds = list('kinds', (k) => KINDS.includes(k), 'smooth, clamped or corner');
+    kinds.forEach((k, i) => { if (k === 'clamped' && !arrows[i]) throw new Error(`${where}: point ${i} is clamped but has no arrow`); });
+    states = kinds.map((k) => { const v = SIDES[KINDS.indexOf(k)]; return [v, v]; });
+  }
   if (typeof c.alpha !== 'number' || !Number.isFinite(c.alpha)) throw new Error(`${where}.alpha must be a number`);
   if (typeof c.method !== 'string') throw new Error(`${where}.method must be a method name`);
   if (!c.options || typeof c.options !== 'object' || Array.isArray(c.options)) throw new Error(`${where}.options must be an object`);
@@ -214,8 +258,10 @@ function projectCurve(c, at) {
     alpha: c.alpha,
     method: c.method,
     options: c.options,
-    kinds: [...kinds],
-    tangents: arrows.map((a) => (a ? [...a] : null)), // the editor's name for the arrows
+    states,
+    tangents: arrows.map((a, i) => (a && states[i][1] === 'clamped' ? [...a] : null)), // the editor's name for the arrows
+    inArrows: inArrows.map((a, i) => (states[i][0] === 'clamped' ? a : null)),
+    corners,
     radii: [...radii],
   };
 }
@@ -240,7 +286,7 @@ export function parseProject(text) {
     // A method name (a default entry) or {method, options?, alpha?}: read by entries.js.
     ensemble: Array.isArray(d.ensemble) ? d.ensemble.filter((m) => typeof m === 'string'
       || (m && typeof m === 'object' && typeof m.method === 'string')) : [],
-    comb: !!d.comb, combAll: !!d.combAll, polygon: !!d.polygon, plot: d.plot !== false,
+    comb: !!d.comb, combAll: !!d.combAll, polygon: !!d.polygon, plot: d.plot !== false, snap: !!d.snap,
   } : null;
   return { curves, selected, view, display };
 }
