@@ -1246,10 +1246,10 @@ constexpr std::size_t kChainMaxPieces = 5;
 constexpr std::size_t kChainStarts = 20;
 
 /// A closed interval of scaled curvatures.
-struct Range {
+struct CurvatureRange {
   double lo = kInf, hi = -kInf;
   void add(double v) { lo = std::min(lo, v), hi = std::max(hi, v); }
-  bool meets(const Range& o) const { return lo <= o.hi && o.lo <= hi; }
+  bool meets(const CurvatureRange& o) const { return lo <= o.hi && o.lo <= hi; }
 };
 
 /// Result of chain_scan.
@@ -1325,7 +1325,7 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
   };
   // Piece ℓ over the cell (ci, cj): one range pair per (corner, solution) there.
   struct Branch {
-    Range b, a;
+    CurvatureRange b, a;
     ParameterPair t;
   };
   auto corners = [&](std::size_t l, std::size_t ci, std::size_t cj) {
@@ -1363,7 +1363,7 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
           }
           if (near) br.b.add(near->kb), br.a.add(near->ka);
         }
-        for (Range* r : {&br.b, &br.a}) {
+        for (CurvatureRange* r : {&br.b, &br.a}) {
           const double w = r->hi - r->lo;
           r->lo -= w, r->hi += w;
         }
@@ -1372,13 +1372,22 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
     }
   };
   // Forward over the breakpoints, with one parent per reached cell for the Newton starts.
+  // The parent kept is the one whose chain matches best: `score` sums, over the chain's links,
+  // how far the centre of each tested range lies outside what it had to meet, in its widths.
   struct Parent {
     std::size_t cell = std::numeric_limits<std::size_t>::max();
     ParameterPair t;
+    double score = kInf;
+    CurvatureRange a;
   };
-  std::vector<std::vector<std::vector<Range>>> K(m);
+  auto miss = [](const CurvatureRange& b, const CurvatureRange& r) {
+    const double mid = 0.5 * (b.lo + b.hi);
+    const double out = std::max({r.lo - mid, mid - r.hi, 0.0});
+    return out == 0.0 ? 0.0 : out / (b.hi - b.lo + std::abs(mid));
+  };
+  std::vector<std::vector<std::vector<CurvatureRange>>> K(m);
   std::vector<std::vector<Parent>> parent(m);
-  K[0].assign(1, {Range{-kInf, kInf}});  // no condition at T0
+  K[0].assign(1, {CurvatureRange{-kInf, kInf}});  // no condition at T0
   for (std::size_t l = 1; l < m; ++l) {
     K[l].assign(cells(l), {});
     parent[l].assign(cells(l), {});
@@ -1387,15 +1396,15 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
       if (K[l - 1][ci].empty()) continue;
       for (std::size_t cj = 0; cj < cells(l); ++cj) {
         branches(l, ci, cj);
+        const double before = l == 1 ? 0.0 : parent[l - 1][ci].score;
         for (const Branch& br : bs) {
-          if (!std::any_of(K[l - 1][ci].begin(), K[l - 1][ci].end(),
-                           [&](const Range& r) { return br.b.meets(r); })) {
-            continue;
+          double gap = kInf;
+          for (const CurvatureRange& r : K[l - 1][ci]) {
+            if (br.b.meets(r)) gap = std::min(gap, miss(br.b, r));
           }
+          if (gap == kInf) continue;
           K[l][cj].push_back(br.a);
-          if (parent[l][cj].cell == std::numeric_limits<std::size_t>::max()) {
-            parent[l][cj] = {ci, br.t};
-          }
+          if (before + gap < parent[l][cj].score) parent[l][cj] = {ci, br.t, before + gap, br.a};
           any = true;
         }
       }
@@ -1404,10 +1413,11 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
       out.first_empty = l;
       return out;
     }
-    for (std::vector<Range>& v : K[l]) {  // merged, so that the lists stay short
-      std::sort(v.begin(), v.end(), [](const Range& p, const Range& q) { return p.lo < q.lo; });
+    for (std::vector<CurvatureRange>& v : K[l]) {  // merged, so that the lists stay short
+      std::sort(v.begin(), v.end(),
+                [](const CurvatureRange& p, const CurvatureRange& q) { return p.lo < q.lo; });
       std::size_t n = 0;
-      for (const Range& r : v) {
+      for (const CurvatureRange& r : v) {
         if (n > 0 && r.lo <= v[n - 1].hi) {
           v[n - 1].hi = std::max(v[n - 1].hi, r.hi);
         } else {
@@ -1418,28 +1428,39 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
     }
   }
   out.first_empty = m - 1;
+  struct End {
+    double score;
+    std::size_t cell;
+    ParameterPair t;
+  };
+  std::vector<End> ends;
   for (std::size_t ci = 0; ci < cells(m - 1); ++ci) {
     if (K[m - 1][ci].empty()) continue;
     branches(m, ci, 0);
     for (const Branch& br : bs) {
       if (!std::any_of(K[m - 1][ci].begin(), K[m - 1][ci].end(),
-                       [&](const Range& r) { return br.b.meets(r); })) {
+                       [&](const CurvatureRange& r) { return br.b.meets(r); })) {
         continue;
       }
       out.feasible = true;
-      if (out.starts.size() >= kChainStarts) break;
-      std::vector<double> x(m + 1);
-      std::vector<ParameterPair> t(m + 1);
-      x[0] = xi[0], x[m] = xi[m], t[m] = br.t;
-      for (std::size_t l = m - 1, c = ci; l >= 1; --l) {
-        x[l] = 0.5 * (X[l][c] + X[l][c + 1]);
-        t[l] = parent[l][c].t;
-        c = parent[l][c].cell;
-      }
-      out.starts.push_back(std::move(x));
-      out.start_branch.push_back(std::move(t));
-      break;
+      const Parent& q = parent[m - 1][ci];
+      const double last = br.b.meets(q.a) ? miss(br.b, q.a) : 1.0;  // against the kept chain
+      ends.push_back({q.score + last, ci, br.t});
     }
+  }
+  // Newton starts from the best-matching chains first.
+  std::sort(ends.begin(), ends.end(), [](const End& p, const End& q) { return p.score < q.score; });
+  for (std::size_t e = 0; e < std::min(ends.size(), kChainStarts); ++e) {
+    std::vector<double> x(m + 1);
+    std::vector<ParameterPair> t(m + 1);
+    x[0] = xi[0], x[m] = xi[m], t[m] = ends[e].t;
+    for (std::size_t l = m - 1, c = ends[e].cell; l >= 1; --l) {
+      x[l] = 0.5 * (X[l][c] + X[l][c + 1]);
+      t[l] = parent[l][c].t;
+      c = parent[l][c].cell;
+    }
+    out.starts.push_back(std::move(x));
+    out.start_branch.push_back(std::move(t));
   }
   return out;
 }
