@@ -1409,8 +1409,8 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
         }
       }
     }
-    if (!any) {
-      out.first_empty = l;
+    if (!any) {  // link ℓ tests the jump at T3(ℓ−1) (with ℓ = 1: piece 1 has no solution)
+      out.first_empty = std::max<std::size_t>(l - 1, 1);
       return out;
     }
     for (std::vector<CurvatureRange>& v : K[l]) {  // merged, so that the lists stay short
