@@ -1549,14 +1549,19 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       std::vector<double> x = chain.starts[s];
       std::vector<PieceFit> fit(m + 1);
       bool ok = true;
-      for (std::size_t l = 1; l <= m && ok; ++l) {
-        PieceFit near;
-        near.s.t1 = chain.start_branch[s][l].t1, near.s.t2 = chain.start_branch[s][l].t2;
-        ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), &near, fit[l]);
+      G2Report attempt;
+      try {  // a start near a cone's edge can lead Newton onto a chord: (2.6) degenerates
+        for (std::size_t l = 1; l <= m && ok; ++l) {
+          PieceFit near;
+          near.s.t1 = chain.start_branch[s][l].t1, near.s.t2 = chain.start_branch[s][l].t2;
+          ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), &near,
+                           fit[l]);
+        }
+        if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
+      } catch (const Error&) {
+        ok = false;
       }
-      if (!ok) continue;
-      const G2Report attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
-      if (attempt.converged) {
+      if (ok && attempt.converged) {
         d.xi = x;
         pieces = std::move(fit);
         d.in_xi = in_swept_sets(d.sw, d.xi);
