@@ -64,6 +64,7 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s18-c10208.json",
     "kozak-krajnc-not_converged-s18-c10785.json",
     "kozak-krajnc-not_converged-s18-c131.json",
+    "kozak-krajnc-not_converged-s18-c17687.json",
     "kozak-krajnc-not_converged-s18-c18.json",
     "kozak-krajnc-not_converged-s18-c19147.json",
     "kozak-krajnc-not_converged-s18-c221.json",
@@ -103,6 +104,9 @@ const std::set<std::string> kOpen = {
     // Kozak-Krajnc G2 with three pieces and near-repeated pairs: the admissible directions are
     // narrower than the chain scan's cells, so it decides nothing (docs/hardening.md).
     "kozak-krajnc-not_converged-s18-c18.json",
+    // A G2 spline exists (ξ1 = 0.0570, ξ2 = 0.9428: Newton from random starts reaches it), the
+    // chain scan passes chains but none of its starts reaches it.
+    "kozak-krajnc-not_converged-s18-c17687.json",
     // Data balls (issue 19): linear convergence at the iteration cap, 4e-9 and 8e-8 above the
     // tolerance (docs/hardening.md, "Data balls").
     "quasi-elastic-balls-not_converged-s19-c1401.json",
