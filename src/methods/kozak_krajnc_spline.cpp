@@ -1235,6 +1235,236 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
   return out;
 }
 
+/// The chain scan (m ≥ 3) covers (0, 1) at each free breakpoint with kChainCells equal cells
+/// and kChainTail cells halving towards each edge of the cone (4.1) (the last ones 2⁻²⁰ of a
+/// cell wide): (kChainCells + 2·kChainTail)² piece solves per inner piece.
+constexpr int kChainCells = 200;
+constexpr int kChainTail = 20;
+/// Above this many pieces the scan is not tried (it costs ~0.1 s per inner piece).
+constexpr std::size_t kChainMaxPieces = 5;
+/// Newton starts taken from the chains of cells that pass the scan.
+constexpr std::size_t kChainStarts = 20;
+
+/// A closed interval of scaled curvatures.
+struct CurvatureRange {
+  double lo = kInf, hi = -kInf;
+  void add(double v) { lo = std::min(lo, v), hi = std::max(hi, v); }
+  bool meets(const CurvatureRange& o) const { return lo <= o.hi && o.lo <= hi; }
+};
+
+/// Result of chain_scan.
+struct ChainScan {
+  bool feasible = false;  ///< some chain of cells passes every relaxed condition
+  /// The grid resolves the admissible set: each piece admits every corner of the cell holding
+  /// the G1 spline's directions. Without that, "no chain" proves nothing.
+  bool resolved = true;
+  std::size_t first_empty = 0;  ///< when not feasible: the breakpoint where the chains end
+  std::vector<std::vector<double>> starts;               ///< ξ at the centres of passing chains
+  std::vector<std::vector<ParameterPair>> start_branch;  ///< per start and piece: (t1, t2)
+};
+
+/// Nodes of one free breakpoint's grid on (0, 1) (see kChainCells).
+std::vector<double> chain_nodes() {
+  std::vector<double> x;
+  const double h = 1.0 / kChainCells;
+  for (int k = kChainTail; k >= 1; --k) x.push_back(std::ldexp(h, -k));
+  for (int i = 1; i < kChainCells; ++i) x.push_back(static_cast<double>(i) / kChainCells);
+  for (int k = 1; k <= kChainTail; ++k) x.push_back(1.0 - std::ldexp(h, -k));
+  return x;
+}
+
+/// Whether (1.4) can hold at every interior breakpoint, decided on a grid of cells (ξ0, ξm
+/// and nothing else pinned). Jump ℓ is κℓ(1) − κℓ+1(0): piece ℓ's end curvature, a function
+/// of (ξℓ−1, ξℓ), against piece ℓ+1's start curvature, of (ξℓ, ξℓ+1) — a chain. Over a cell
+/// each branch of each piece has a range of both end curvatures (its values at the cell's
+/// admissible corners, continued by nearest (t1, t2), widened by their spread on each side);
+/// K[ℓ][c] = the curvatures at T3ℓ that a chain of cells from T0 reaches with ξℓ in cell c,
+/// every jump on the way able to vanish. No G2 spline if the last jump cannot vanish on any
+/// chain. Dynamic programming: (m − 2)·cells² branch ranges instead of cells^(m−1) boxes.
+ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
+  ChainScan out;
+  const std::size_t m = g.m;
+  std::vector<std::vector<double>> X(m + 1, chain_nodes());
+  X[0] = {xi[0]};
+  X[m] = {xi[m]};
+  auto cells = [&](std::size_t l) { return X[l].size() == 1 ? std::size_t{1} : X[l].size() - 1; };
+  auto scale = [&](std::size_t l) { return 0.5 * (norm(g.dT[3 * l - 1]) + norm(g.dT[3 * l])); };
+  // Every solution of every piece at every node pair: (t1, t2, κ(0)·len, κ(1)·len).
+  struct NodeSolution {
+    double t1, t2, kb, ka;
+  };
+  std::vector<std::vector<std::vector<NodeSolution>>> table(m + 1);
+  for (std::size_t l = 1; l <= m; ++l) {
+    const std::size_t k = 3 * l - 3, nj = X[l].size();
+    const double sl = l > 1 ? scale(l - 1) : 0.0, sr = l < m ? scale(l) : 0.0;
+    table[l].resize(X[l - 1].size() * nj);
+    for (std::size_t i = 0; i < X[l - 1].size(); ++i) {
+      const Vec2 d0 = direction(g, l - 1, X[l - 1][i]);
+      for (std::size_t j = 0; j < nj; ++j) {
+        const Vec2 d3 = direction(g, l, X[l][j]);
+        KozakKrajncSolutions all;
+        try {
+          all = kozak_krajnc_solve(g.T[k], g.T[k + 1], g.T[k + 2], g.T[k + 3], d0, d3);
+        } catch (const Error&) {  // degenerate constants (2.6): no piece at this node
+          continue;
+        }
+        for (const KozakKrajncSolution& s : all) {
+          const CubicBezier c = kozak_krajnc_bezier(g.T[k], g.T[k + 3], d0, d3, s);
+          const double kb = c.curvature(0.0) * sl, ka = c.curvature(1.0) * sr;
+          if (std::isfinite(kb) && std::isfinite(ka))
+            table[l][i * nj + j].push_back({s.t1, s.t2, kb, ka});
+        }
+      }
+    }
+  }
+  auto cell_of = [&](std::size_t l) {
+    if (X[l].size() == 1) return std::size_t{0};
+    const auto it = std::upper_bound(X[l].begin(), X[l].end(), xi[l]);
+    if (it == X[l].begin() || it == X[l].end()) return std::numeric_limits<std::size_t>::max();
+    return static_cast<std::size_t>(it - X[l].begin()) - 1;
+  };
+  // Piece ℓ over the cell (ci, cj): one range pair per (corner, solution) there.
+  struct Branch {
+    CurvatureRange b, a;
+    ParameterPair t;
+  };
+  auto corners = [&](std::size_t l, std::size_t ci, std::size_t cj) {
+    const std::size_t ni = X[l - 1].size(), nj = X[l].size();
+    std::vector<const std::vector<NodeSolution>*> c;
+    for (std::size_t i = ci; i <= (ni == 1 ? ci : ci + 1); ++i) {
+      for (std::size_t j = cj; j <= (nj == 1 ? cj : cj + 1); ++j)
+        c.push_back(&table[l][i * nj + j]);
+    }
+    return c;
+  };
+  for (std::size_t l = 1; l <= m; ++l) {  // the resolution the claim needs
+    const std::size_t ci = cell_of(l - 1), cj = cell_of(l);
+    if (ci == std::numeric_limits<std::size_t>::max() ||
+        cj == std::numeric_limits<std::size_t>::max()) {
+      out.resolved = false;
+      continue;
+    }
+    for (const auto* c : corners(l, ci, cj)) out.resolved = out.resolved && !c->empty();
+  }
+  std::vector<Branch> bs;
+  auto branches = [&](std::size_t l, std::size_t ci, std::size_t cj) {
+    bs.clear();
+    const auto c = corners(l, ci, cj);
+    for (const auto* from : c) {
+      for (const NodeSolution& s : *from) {
+        Branch br;
+        br.t = {s.t1, s.t2};
+        for (const auto* to : c) {
+          const NodeSolution* near = nullptr;
+          double dist = kInf;
+          for (const NodeSolution& q : *to) {
+            const double d = std::abs(q.t1 - s.t1) + std::abs(q.t2 - s.t2);
+            if (d < dist) dist = d, near = &q;
+          }
+          if (near) br.b.add(near->kb), br.a.add(near->ka);
+        }
+        for (CurvatureRange* r : {&br.b, &br.a}) {
+          const double w = r->hi - r->lo;
+          r->lo -= w, r->hi += w;
+        }
+        bs.push_back(br);
+      }
+    }
+  };
+  // Forward over the breakpoints, with one parent per reached cell for the Newton starts.
+  // The parent kept is the one whose chain matches best: `score` sums, over the chain's links,
+  // how far the centre of each tested range lies outside what it had to meet, in its widths.
+  struct Parent {
+    std::size_t cell = std::numeric_limits<std::size_t>::max();
+    ParameterPair t;
+    double score = kInf;
+    CurvatureRange a;
+  };
+  auto miss = [](const CurvatureRange& b, const CurvatureRange& r) {
+    const double mid = 0.5 * (b.lo + b.hi);
+    const double out = std::max({r.lo - mid, mid - r.hi, 0.0});
+    return out == 0.0 ? 0.0 : out / (b.hi - b.lo + std::abs(mid));
+  };
+  std::vector<std::vector<std::vector<CurvatureRange>>> K(m);
+  std::vector<std::vector<Parent>> parent(m);
+  K[0].assign(1, {CurvatureRange{-kInf, kInf}});  // no condition at T0
+  for (std::size_t l = 1; l < m; ++l) {
+    K[l].assign(cells(l), {});
+    parent[l].assign(cells(l), {});
+    bool any = false;
+    for (std::size_t ci = 0; ci < cells(l - 1); ++ci) {
+      if (K[l - 1][ci].empty()) continue;
+      for (std::size_t cj = 0; cj < cells(l); ++cj) {
+        branches(l, ci, cj);
+        const double before = l == 1 ? 0.0 : parent[l - 1][ci].score;
+        for (const Branch& br : bs) {
+          double gap = kInf;
+          for (const CurvatureRange& r : K[l - 1][ci]) {
+            if (br.b.meets(r)) gap = std::min(gap, miss(br.b, r));
+          }
+          if (gap == kInf) continue;
+          K[l][cj].push_back(br.a);
+          if (before + gap < parent[l][cj].score) parent[l][cj] = {ci, br.t, before + gap, br.a};
+          any = true;
+        }
+      }
+    }
+    if (!any) {  // link ℓ tests the jump at T3(ℓ−1) (with ℓ = 1: piece 1 has no solution)
+      out.first_empty = std::max<std::size_t>(l - 1, 1);
+      return out;
+    }
+    for (std::vector<CurvatureRange>& v : K[l]) {  // merged, so that the lists stay short
+      std::sort(v.begin(), v.end(),
+                [](const CurvatureRange& p, const CurvatureRange& q) { return p.lo < q.lo; });
+      std::size_t n = 0;
+      for (const CurvatureRange& r : v) {
+        if (n > 0 && r.lo <= v[n - 1].hi) {
+          v[n - 1].hi = std::max(v[n - 1].hi, r.hi);
+        } else {
+          v[n++] = r;
+        }
+      }
+      v.resize(n);
+    }
+  }
+  out.first_empty = m - 1;
+  struct End {
+    double score;
+    std::size_t cell;
+    ParameterPair t;
+  };
+  std::vector<End> ends;
+  for (std::size_t ci = 0; ci < cells(m - 1); ++ci) {
+    if (K[m - 1][ci].empty()) continue;
+    branches(m, ci, 0);
+    for (const Branch& br : bs) {
+      if (!std::any_of(K[m - 1][ci].begin(), K[m - 1][ci].end(),
+                       [&](const CurvatureRange& r) { return br.b.meets(r); })) {
+        continue;
+      }
+      out.feasible = true;
+      const Parent& q = parent[m - 1][ci];
+      const double last = br.b.meets(q.a) ? miss(br.b, q.a) : 1.0;  // against the kept chain
+      ends.push_back({q.score + last, ci, br.t});
+    }
+  }
+  // Newton starts from the best-matching chains first.
+  std::sort(ends.begin(), ends.end(), [](const End& p, const End& q) { return p.score < q.score; });
+  for (std::size_t e = 0; e < std::min(ends.size(), kChainStarts); ++e) {
+    std::vector<double> x(m + 1);
+    std::vector<ParameterPair> t(m + 1);
+    x[0] = xi[0], x[m] = xi[m], t[m] = ends[e].t;
+    for (std::size_t l = m - 1, c = ends[e].cell; l >= 1; --l) {
+      x[l] = 0.5 * (X[l][c] + X[l][c + 1]);
+      t[l] = parent[l][c].t;
+      c = parent[l][c].cell;
+    }
+    out.starts.push_back(std::move(x));
+    out.start_branch.push_back(std::move(t));
+  }
+  return out;
+}
+
 /// Optional G2 stage: Newton on (1.4) from the G1 solution. On convergence `d` and `pieces`
 /// take the G2 directions and pieces. Throws kNotConverged unless a best effort is asked for.
 G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directions& d,
@@ -1305,6 +1535,54 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                       " at ξ = " + detail::format_number(scan.at) + ", " + scan.where +
                       "); ask for a best effort to get the G1 spline instead",
                   3);
+    }
+  }
+  bool inner_free = true;
+  for (std::size_t l = 1; l < m; ++l) inner_free = inner_free && !p.fixed[l];
+  if (!o.rep.converged && !o.rep.at_precision && m >= 3 && m <= kChainMaxPieces && inner_free) {
+    // Two or more unknowns: the chain scan either proves that (1.4) has no solution (up to its
+    // grid's resolution) or gives Newton starts near every chain of cells where it may have one.
+    const ChainScan chain = chain_scan(g, d.xi);
+    std::vector<char> pinned(m + 1, 0);
+    pinned[0] = pinned[m] = 1;
+    for (std::size_t s = 0; chain.feasible && !o.rep.at_cap && s < chain.starts.size(); ++s) {
+      std::vector<double> x = chain.starts[s];
+      std::vector<PieceFit> fit(m + 1);
+      bool ok = true;
+      G2Report attempt;
+      try {  // a start near a cone's edge can lead Newton onto a chord: (2.6) degenerates
+        for (std::size_t l = 1; l <= m && ok; ++l) {
+          PieceFit near;
+          near.s.t1 = chain.start_branch[s][l].t1, near.s.t2 = chain.start_branch[s][l].t2;
+          ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), &near,
+                           fit[l]);
+        }
+        if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
+      } catch (const Error&) {
+        ok = false;
+      }
+      if (ok && attempt.converged) {
+        d.xi = x;
+        pieces = std::move(fit);
+        d.in_xi = in_swept_sets(d.sw, d.xi);
+        o.rep = attempt;
+        o.start = "chain-scan";
+        break;
+      }
+    }
+    if (!chain.feasible && chain.resolved && !options.best_effort) {
+      const std::size_t at = 3 * chain.first_empty;
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: no G2 spline for the end directions of the tangent rule: with "
+                  "the directions at " +
+                      pt(3) + ".." + pt(3 * (m - 1)) + " on a grid of " +
+                      std::to_string(kChainCells) +
+                      " cells each (finer towards the edges of their cones), no chain of cells "
+                      "from " +
+                      pt(0) + " lets the scaled curvature jumps vanish up to " + pt(at) +
+                      " (each piece's end curvatures ranging over a cell as its corners "
+                      "suggest); ask for a best effort to get the G1 spline instead",
+                  at);
     }
   }
   if (!o.rep.converged && !o.rep.at_precision && !options.best_effort) {

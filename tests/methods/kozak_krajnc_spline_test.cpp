@@ -417,6 +417,60 @@ TEST(KozakKrajncSpline, G2RootBeyondDoublePrecisionIsAConditioningLimit) {
   EXPECT_LE(std::abs(kl - kr) * chord, 1e-6);
 }
 
+TEST(KozakKrajncSpline, G2ChainScanFindsARootNewtonMisses) {
+  // Ten points of a perturbed circle, three pieces (stress case s18-c7048): Newton from the
+  // G1 spline and from both parabolas' directions stalls at the edge of the admissible ξ; the
+  // chain scan's cells bracket a G2 spline elsewhere, and Newton from there reaches it.
+  FitInput in;
+  in.points = {
+      {0.7280395449655364, 0.1440283701178012},    {0.6647729523463161, 0.3285027357914905},
+      {0.13730151864198437, 0.7291381171141219},   {-0.10296437699286032, 0.7520597048807133},
+      {-0.5480334221214594, 0.4786047956467151},   {-0.7219914343857781, 0.07383590120846635},
+      {-0.5902769813007365, -0.44294208143965913}, {-0.07938095032231995, -0.7212726199900144},
+      {0.0834913498251977, -0.7432938546785481},   {0.5310477283731693, -0.5010689548990517}};
+  const FitResult r = fit("kozak-krajnc", in, {{"g2", true}, {"gamma", 0.026196763819152646}});
+  const auto& rep = r.method_report.at("g2");
+  ASSERT_TRUE(rep.at("converged").get<bool>()) << rep.dump();
+  EXPECT_EQ(rep.at("start"), "chain-scan");
+  expect_valid(r);
+  for (std::size_t i : {3u, 6u}) {
+    const double kl = r.spline.segments[i - 1].bezier.curvature(1.0);
+    const double kr = r.spline.segments[i].bezier.curvature(0.0);
+    EXPECT_NEAR(kl, kr, 1e-8 * std::abs(kl)) << i;
+  }
+}
+
+TEST(KozakKrajncSpline, G2ChainScanProvesThatNoSplineExists) {
+  // Ten points of a walk with a near-repeated pair (stress case s18-c10208): over every cell of
+  // the chain scan the scaled curvature jumps at T3 and T6 cannot vanish together, so the
+  // request is refused as infeasible, naming a breakpoint; a best effort gives the G1 spline.
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {-2.9545779227655293e-08, 1.2679984817409791e-08},
+               {-21.071324557550625, 6.526686311842819},
+               {-38.92120663016269, 11.988851867041717},
+               {-73.35186127679079, 14.990298740431781},
+               {-112.70693863783391, 11.804442366477236},
+               {-125.51923607514594, 13.167916413779537},
+               {-142.1157780575953, 12.824431115700301},
+               {-164.20332000667406, 7.626094508602984},
+               {-183.56013334928411, 5.156145378414153}};
+  const nlohmann::json options = {{"g2", true}, {"gamma", 0.6487633439299039}};
+  try {
+    fit("kozak-krajnc", in, options);
+    FAIL() << "expected infeasible";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInfeasible) << e.what();
+    ASSERT_TRUE(e.index());
+    EXPECT_TRUE(*e.index() == 3 || *e.index() == 6) << *e.index();
+    EXPECT_NE(std::string(e.what()).find("T" + std::to_string(*e.index())), std::string::npos)
+        << e.what();
+  }
+  const FitResult r = fit("kozak-krajnc", in, options, FitOptions{.best_effort = true});
+  EXPECT_FALSE(r.method_report.at("g2").at("converged").get<bool>());
+  expect_valid(r);
+}
+
 TEST(KozakKrajncSpline, GammaAndTangentOptions) {
   const auto E = testing::ellipse(12, 3, 1);
   FitInput in;
