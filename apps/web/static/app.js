@@ -96,6 +96,7 @@ let mainTiming = null;         // {server, roundTrip} in ms of the last main fit
 let lastDrawMs = null;         // time render() took after the last fit
 let editSince = null;          // performance.now() of the oldest edit not yet sent to the server
 let lastLatencyMs = null;      // from that edit to the fit drawn on screen (debounce included)
+let lastMainLatencyMs = null;  // the same for the main curve alone, drawn before the ensemble's fits
 const ensembleFits = new Map(); // entryKey → {fit} or {error}
 let mainFitKey = null;         // the request body (JSON text) mainFit answers
 
@@ -1223,6 +1224,7 @@ async function runFit() {
   const since = editSince;
   editSince = null;
   const curveId = selectedCurve().id;
+  let mainMs = null; // edit to the main curve on screen, when drawn before the ensemble's fits
   try {
     const othersDone = fitOtherCurves();
     if (!state.points.length || !state.method) {
@@ -1235,10 +1237,15 @@ async function runFit() {
       // One point is fitted too: the method's own "needs at least 2 points" is the message.
       // An entry of a method this server lacks is fitted too: its row shows the server's error.
       const entries = [...state.ensemble];
-      const [main, ...others] = await Promise.all([
-        postFit(state.method, state.options),
-        ...entries.map(postEntry),
-      ]);
+      const mainDone = postFit(state.method, state.options);
+      const entriesDone = Promise.all(entries.map(postEntry));
+      if (entries.length) {
+        // The edited curve goes on screen as soon as its fit is back: the entries' fits share
+        // the server's cores and the browser's connections, and came back up to 40 ms later.
+        const first = await mainDone;
+        if (first.fit && curveId === selectedCurve().id) mainMs = drawMainEarly(first, since);
+      }
+      const [main, others] = await Promise.all([mainDone, entriesDone]);
       // Another curve was selected meanwhile: these fits are not of its data.
       if (curveId !== selectedCurve().id) { fitPending = true; return; }
       // A failed fit keeps the last good curve, dimmed, next to its error (also mid-drag).
@@ -1261,11 +1268,27 @@ async function runFit() {
     render();
     lastDrawMs = performance.now() - drawStart;
     if (since != null) lastLatencyMs = performance.now() - since;
+    lastMainLatencyMs = mainMs;
     renderReport();
   } finally {
     fitInFlight = false;
     if (fitPending) { fitPending = false; requestFit(); }
   }
+}
+
+/** The main curve and its comb of a successful fit, before the ensemble's fits are back (the
+ * rest is drawn by render() when they are). */
+function drawMainEarly(main, since) {
+  mainFit = main.fit;
+  mainFitKey = main.key;
+  mainStale = false;
+  mainError = null;
+  el.layerMain.classList.remove('stale');
+  const path = childAt(el.layerMain, 0, 'path');
+  setAttrs(path, { d: fitPath(mainFit), 'data-testid': `curve-${mainFit.method}` });
+  path.removeAttribute('data-stale');
+  renderComb();
+  return since == null ? null : performance.now() - since;
 }
 
 /** Any change of the data: redraw the points now, save the hash, refit soon. */
@@ -1572,10 +1595,15 @@ let combTeeth = [];
 
 /** Path data of comb teeth (one subpath per tooth) and of the line through their tips. */
 function combPaths(teeth) {
+  // To a hundredth of a pixel of the default view: the full 17 digits made the text three
+  // times as long to build and for chromium to parse.
+  const digits = Math.min(20, Math.max(0, 2 - Math.floor(Math.log10(unit()))));
+  const f = (v) => v.toFixed(digits);
   let d = '', tips = '';
   for (const [x1, y1, x2, y2] of teeth) {
-    d += `M${x1} ${y1}L${x2} ${y2}`;
-    tips += `${tips ? 'L' : 'M'}${x2} ${y2}`;
+    const x = f(x2), y = f(y2);
+    d += `M${f(x1)} ${f(y1)}L${x} ${y}`;
+    tips += `${tips ? 'L' : 'M'}${x} ${y}`;
   }
   return { d, tips };
 }
@@ -1885,7 +1913,7 @@ function renderReport() {
   const r = mainFit?.report;
   const ms = (v) => (v == null ? '?' : Number(v.toPrecision(2)).toString());
   const timing = mainTiming
-    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms`
+    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms${lastMainLatencyMs == null ? '' : ` (main curve ${ms(lastMainLatencyMs)} ms)`}`
     : '';
   const balls = mainFit?.method_report?.balls;
   const ballText = balls ? ` · data balls ${balls.active.length} of ${balls.count} on their circle (${balls.status})` : '';
