@@ -16,7 +16,7 @@ import { markedNodes, renderMethodReport } from './report.js';
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const FRAME_W = 1000, FRAME_H = 700, ASPECT = FRAME_H / FRAME_W;
 const COMB_SAMPLES = 16;   // per segment
-const PLOT_SAMPLES = 2000; // in all (the plot is 1000 units wide), 4 to 24 per segment
+const PLOT_SAMPLES = 800;  // in all (the plot is 1000 units wide, about 900 px), 2 to 24 per segment
 const COMB_MAX_PX = 60;    // longest comb tooth, in pixels of the default view
 const POINT_R_PX = 7;
 const ARROW_PX = 80;       // length of a new clamped tangent arrow
@@ -1555,7 +1555,11 @@ function renderSelection() {
   el.radius.disabled = !ok || !capabilitiesOf(state.method).data_balls;
   const show = (input, text, enabled = ok) => {
     input.disabled = !enabled;
-    if (document.activeElement !== input) { input.value = ok ? text : ''; input.classList.remove('invalid'); }
+    if (document.activeElement !== input) {
+      const value = ok ? text : '';
+      if (input.value !== value) input.value = value; // a drag calls this on every pointer move
+      input.classList.remove('invalid');
+    }
   };
   show(el.radius, ok ? String(state.radii[i] ?? 0) : '0');
   if (!ok && document.activeElement !== el.radius) el.radius.value = '0';
@@ -1748,7 +1752,7 @@ function renderPlot() {
   el.plot.toggleAttribute('hidden', !state.plot); // an <svg> has no .hidden property
   if (!state.plot) return;
   const curves = [];
-  const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(4, Math.ceil(PLOT_SAMPLES / segments.length))));
+  const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(2, Math.ceil(PLOT_SAMPLES / segments.length))));
   for (const { c, i, fit } of otherVisibleFits()) {
     curves.push({ name: `curve-${i}`, label: c.name, color: c.color, main: false, samples: samples(fit.segments) });
   }
