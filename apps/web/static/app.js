@@ -2717,7 +2717,7 @@ function importText(text, source) {
     const both = parsed.arrows?.[i] ?? given(parsed.tangents, i);
     if (b === 'clamped') state.tangents[i] = given(parsed.outTangents, i) ?? both;
     if (a === 'clamped') {
-      const inn = given(parsed.inTangents, i);
+      const inn = parsed.inArrows?.[i] ?? given(parsed.inTangents, i);
       // One arrow for both clamped sides unless the file gives the incoming one apart.
       state.inArrows[i] = b === 'clamped' && !inn ? null : inn ?? both;
     }
