@@ -201,7 +201,7 @@ await run(async ({ page, url }) => {
     const midDrag = {
       d: await page.getAttribute(sel('curve-min-energy'), 'd').catch(() => null),
       stale: await page.locator(`${sel('curve-min-energy')}[data-stale]`).count(),
-      comb: await page.locator(`${sel('comb-lines')} line`).count(),
+      comb: Number(await page.getAttribute(`${sel('comb-lines')} .teeth`, 'data-teeth').catch(() => 0)),
       combStale: await page.$eval(sel('comb-lines'), (g) => g.classList.contains('stale')),
       plot: await page.locator(`${sel('kappa-min-energy')}.stale`).count(),
       error: await errorText(page),
@@ -269,10 +269,10 @@ await run(async ({ page, url }) => {
   // ---- bug 6d: the comb's colour is no ensemble method's ----
   await section('bug 6d', async () => {
     await open({ p: FIVE, m: 'quasi-elastic', k: 1 });
-    await page.locator(`${sel('comb-lines')} line`).first().waitFor({ state: 'attached' });
+    await page.locator(`${sel('comb-lines')} .teeth`).first().waitFor({ state: 'attached' });
     const colours = await page.evaluate(() => {
       const rgb = (c) => c.match(/[\d.]+/g).slice(0, 3).map(Number);
-      const comb = rgb(getComputedStyle(document.querySelector('[data-testid="comb-lines"] line')).stroke);
+      const comb = rgb(getComputedStyle(document.querySelector('[data-testid="comb-lines"] .teeth')).stroke);
       const swatches = [...document.querySelectorAll('[data-testid="ensemble"] label')].map((l) => ({
         name: l.textContent.trim(), rgb: rgb(getComputedStyle(l.querySelector('.swatch')).backgroundColor),
       }));
@@ -287,7 +287,7 @@ await run(async ({ page, url }) => {
   // ---- bug 6e: the exported SVG holds the comb's teeth ----
   await section('bug 6e', async () => {
     await open({ p: FIVE, m: 'quasi-elastic', k: 1 });
-    await page.locator(`${sel('comb-lines')} line`).first().waitFor({ state: 'attached' });
+    await page.locator(`${sel('comb-lines')} .teeth`).first().waitFor({ state: 'attached' });
     await page.click(sel('export-svg'));
     const svgText = await page.$eval(sel('export-svg-text'), (t) => t.value);
     const [vx, vy, vw, vh] = /viewBox="([^"]+)"/.exec(svgText)[1].split(' ').map(Number);

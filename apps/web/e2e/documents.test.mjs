@@ -49,7 +49,7 @@ function drop(page, name, text) {
 }
 
 await run(async ({ page, url }) => {
-  const { settled } = trackFits(page);
+  const { requests, settled } = trackFits(page);
   await page.setViewportSize({ width: 1280, height: 800 });
   const first = [[100, 300], [300, 500], [500, 300], [700, 450]];
   await page.goto(`${url}/${hashOf({ p: first })}`);
@@ -205,9 +205,10 @@ await run(async ({ page, url }) => {
   check(await names(page) === 'curve 1,curve 2,copy B,cli-fit,curve-ensemble' && await pointCount(page) === 6,
     'a Curve Ensemble file dropped on the canvas adds a curve of its 6 nodes');
   check(await page.$eval(sel('method'), (s) => s.value) === 'restricted-elastic' && !(await page.isChecked(sel('closed')))
-    && await page.locator(sel('tangent-0')).count() === 1 && await page.locator(sel('tangent-5')).count() === 1
+    && await page.locator(sel('tangent-0')).count() === 1 && await page.locator(sel('free-0')).count() === 1
+    && await page.locator(sel('tangent-in-5')).count() === 1 && await page.locator(sel('free-5')).count() === 1
     && await page.locator(sel('corner-3')).count() === 1,
-    'its states: open, clamped ends (3, 5), a free node inside is a corner; Curve Ensemble\'s method');
+    'its states: open, the start [free, clamped] (3) with its outgoing arrow, the end [clamped, free] (5) with its incoming one, a free node (7) inside; Curve Ensemble\'s method');
   const arrow0 = await page.$eval(sel('tangent-0'), (g) => { const l = g.querySelector('line'); return Math.atan2(l.getAttribute('y2') - l.getAttribute('y1'), l.getAttribute('x2') - l.getAttribute('x1')) * 180 / Math.PI; });
   check(Math.abs(arrow0 - 30) < 1e-9, `the clamped start points at its DIR, 30° (${arrow0})`);
   await page.click(sel('zoom-fit-all'));
@@ -277,6 +278,63 @@ await run(async ({ page, url }) => {
   await page.fill(sel('import-text'), '#Curve Ensemble Text File\n0 0 nan 0 0 0\n1 1 0 0 0 0\n');
   await page.click(sel('import'));
   check(/line 2/.test(await page.locator(sel('error')).textContent()), 'a malformed Curve Ensemble line is named');
+
+  // ---- Curve Ensemble import without loss: the editor's request is the library's reading ----
+  // For each file, the request the editor sends after importing it and the "request" of
+  // `fairspline fit FILE --input-format ce -f json` give the same points, closed flag, per-side
+  // states, clamped directions (as unit vectors, to 1e-12: the editor sends 3·arrow/Δt, the
+  // library a unit vector), corner angles and data-ball radii; and the two fits the same
+  // bending energy (to 1e-9, relative).
+  const ceFiles = {
+    'examples/curve-ensemble.txt': ce,
+    // from tests/io/curve_ensemble_test.cpp: a regular node's corner, a clamped end's DIR − CORNER
+    'corner and ends': '#Curve Ensemble Text File\n0 0 45 0 3 0.0123\n100 20 -12.25 30 0 0.009\n200 0 -60 10 5 0\n',
+    // from the same: data balls (−5, −1.5, a marked 102) with their DIR and CORNER, free ends
+    'balls': '#Curve Ensemble Text File\n0 0 0 0 7 0 \n10 10 0 0 -5 0 \n20 0 14.5 -90 -1.5 0.3 \n30 9 0 0 102 0 \n40 0 0 0 7 0 \n',
+    // closed: a regular corner, a clamped node with two directions (DIR 90, CORNER 20), 3 and 5
+    // inside, a free node with an "inf" energy, a data ball
+    'closed, every state': '#Curve Ensemble Text File\n0 0 0 15 0 0\n100 0 90 20 1 0\n150 60 120 0 3 0\n100 120 200 20 5 0\n0 100 0 0 7 inf\n-30 50 0 0 -12 0\n',
+  };
+  const KIND_SIDE = { smooth: 'regular', clamped: 'clamped', corner: 'free' };
+  const unitOf = (t) => (t ? t.map((v) => v / Math.hypot(...t)) : null);
+  /** Per node: [in, out] states, the clamped sides' unit directions, corner angle, radius. */
+  const nodesOf = (req, n) => Array.from({ length: n }, (_, i) => {
+    const v = req.states?.[i] ?? (req.kinds ? KIND_SIDE[req.kinds[i]] : 'regular');
+    const [a, b] = Array.isArray(v) ? v : [v, v];
+    return {
+      states: [a, b],
+      in: a === 'clamped' ? unitOf(req.in_tangents?.[i] ?? req.tangents?.[i]) : null,
+      out: b === 'clamped' ? unitOf(req.out_tangents?.[i] ?? req.tangents?.[i]) : null,
+      corner: req.corners_deg?.[i] ?? 0,
+      radius: req.radii?.[i] ?? 0,
+    };
+  });
+  const close = (u, v) => (u === null && v === null) || (u && v && Math.abs(u[0] - v[0]) < 1e-12 && Math.abs(u[1] - v[1]) < 1e-12);
+  for (const [name, text] of Object.entries(ceFiles)) {
+    const cli = JSON.parse(execFileSync(process.env.FAIRSPLINE_CLI, ['fit', '-', '--input-format', 'ce', '-f', 'json', '-m', 'restricted-elastic'], { input: text }).toString());
+    const points = cli.request.points ?? cli.points;
+    await page.fill(sel('import-text'), text);
+    await page.click(sel('import'));
+    await settled();
+    const sent = [...requests].reverse().find((r) => JSON.stringify(r.points) === JSON.stringify(points));
+    const mine = sent && nodesOf(sent, points.length), theirs = nodesOf(cli.request, points.length);
+    const differ = !mine ? ['no request with the file\'s points'] : mine.flatMap((m, i) => {
+      const t = theirs[i];
+      const bad = [];
+      if (m.states.join() !== t.states.join()) bad.push(`states ${m.states} vs ${t.states}`);
+      if (!close(m.in, t.in) || !close(m.out, t.out)) bad.push(`directions ${JSON.stringify([m.in, m.out])} vs ${JSON.stringify([t.in, t.out])}`);
+      if (Math.abs(m.corner - t.corner) > 1e-12) bad.push(`corner ${m.corner} vs ${t.corner}`);
+      if (m.radius !== t.radius) bad.push(`radius ${m.radius} vs ${t.radius}`);
+      return bad.map((b) => `node ${i}: ${b}`);
+    });
+    if (sent && !!sent.closed !== !!cli.request.closed) differ.push(`closed ${!!sent.closed} vs ${!!cli.request.closed}`);
+    check(differ.length === 0 && sent.method === 'restricted-elastic',
+      `Curve Ensemble "${name}": the editor's request is the library's reading (${differ.join('; ') || `${points.length} nodes, states ${JSON.stringify(theirs.map((t) => t.states.join('/')))}`})`);
+    await page.click(sel('export-json'));
+    const fit = JSON.parse(await page.$eval(sel('export-json-text'), (t) => t.value));
+    const e1 = fit.report?.bending_energy, e2 = cli.report.bending_energy;
+    check(Math.abs(e1 - e2) <= 1e-9 * Math.abs(e2), `Curve Ensemble "${name}": the editor's fit has the CLI's bending energy (${e1} vs ${e2})`);
+  }
 
   // ---- layout at 1280×800: the new panel fits its column ----
   await page.click(sel(`curves-select-5`));

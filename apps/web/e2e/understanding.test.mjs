@@ -173,7 +173,7 @@ await run(async ({ page, url }) => {
       'a second click sorts descending, the failure still last');
 
     // The curvature plot: one line per visible curve (the other curve, the main one, 6 entries).
-    const lines = await page.locator(`${sel('curvature-plot')} path`).count();
+    const lines = await page.locator(`${sel('curvature-plot')} path[data-testid^="kappa-"]`).count();
     check(lines === 8, `the curvature plot has one line per visible curve (${lines} of 8)`);
     await page.check(sel('comb-all'));
     const combs = await page.locator(`${sel('comb-others')} g`).count();

@@ -16,7 +16,7 @@ import { markedNodes, renderMethodReport } from './report.js';
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const FRAME_W = 1000, FRAME_H = 700, ASPECT = FRAME_H / FRAME_W;
 const COMB_SAMPLES = 16;   // per segment
-const PLOT_SAMPLES = 2000; // in all (the plot is 1000 units wide), 4 to 24 per segment
+const PLOT_SAMPLES = 800;  // in all (the plot is 1000 units wide, about 900 px), 2 to 24 per segment
 const COMB_MAX_PX = 60;    // longest comb tooth, in pixels of the default view
 const POINT_R_PX = 7;
 const ARROW_PX = 80;       // length of a new clamped tangent arrow
@@ -96,6 +96,7 @@ let mainTiming = null;         // {server, roundTrip} in ms of the last main fit
 let lastDrawMs = null;         // time render() took after the last fit
 let editSince = null;          // performance.now() of the oldest edit not yet sent to the server
 let lastLatencyMs = null;      // from that edit to the fit drawn on screen (debounce included)
+let lastMainLatencyMs = null;  // the same for the main curve alone, drawn before the ensemble's fits
 const ensembleFits = new Map(); // entryKey → {fit} or {error}
 let mainFitKey = null;         // the request body (JSON text) mainFit answers
 
@@ -113,6 +114,35 @@ function svg(tag, attrs = {}) {
   const node = document.createElementNS(SVG_NS, tag);
   for (const [k, v] of Object.entries(attrs)) node.setAttribute(k, v);
   return node;
+}
+
+/** Sets the attributes of `node` that differ from what this function last wrote there (a
+ * write of an unchanged value still invalidates the element's style and paint in chromium). */
+function setAttrs(node, attrs) {
+  const last = (node.writtenAttrs ??= {});
+  for (const k in attrs) {
+    const v = String(attrs[k]);
+    if (last[k] !== v) { last[k] = v; node.setAttribute(k, v); }
+  }
+}
+
+/** The child `k` of `layer`, created as a `tag` if the layer has fewer children (children past
+ * `count` are removed by trimLayer). Elements are reused from fit to fit: rebuilding them made
+ * chromium restyle, lay out and repaint every one on every fit of a drag. */
+function childAt(layer, k, tag) {
+  while (layer.children.length <= k) layer.append(svg(tag));
+  return layer.children[k];
+}
+function trimLayer(layer, count) {
+  while (layer.children.length > count) layer.lastChild.remove();
+}
+
+/** SVG path data of a fit's segments, computed once per answer (fits are never modified). */
+const pathCache = new WeakMap();
+function fitPath(fit) {
+  let d = pathCache.get(fit);
+  if (d === undefined) { d = pathData(fit.segments); pathCache.set(fit, d); }
+  return d;
 }
 
 const fmt = (v) => (typeof v === 'number' && Number.isFinite(v) ? Number(v.toPrecision(5)).toString() : String(v ?? '—'));
@@ -438,14 +468,15 @@ function renderCurveRows() {
 /** The visible curves other than the selected one: thinner, dimmed, each in its colour; a
  * press on one selects it. */
 function renderOtherCurves() {
-  el.layerCurves.replaceChildren();
+  let k = 0;
   doc.curves.forEach((c, i) => {
     const fit = otherFits.get(c.id)?.fit;
     if (i === doc.selected || !c.visible || !fit) return;
-    el.layerCurves.append(svg('path', {
-      d: pathData(fit.segments), stroke: c.color, 'data-testid': `doc-curve-${i}`, 'data-curve': i,
-    }));
+    setAttrs(childAt(el.layerCurves, k++, 'path'), {
+      d: fitPath(fit), stroke: c.color, 'data-testid': `doc-curve-${i}`, 'data-curve': i,
+    });
   });
+  trimLayer(el.layerCurves, k);
   // The selected curve is always drawn (it is being edited); hidden, it is drawn faintly.
   el.canvas.classList.toggle('selected-hidden', !selectedCurve()?.visible);
 }
@@ -1193,6 +1224,7 @@ async function runFit() {
   const since = editSince;
   editSince = null;
   const curveId = selectedCurve().id;
+  let mainMs = null; // edit to the main curve on screen, when drawn before the ensemble's fits
   try {
     const othersDone = fitOtherCurves();
     if (!state.points.length || !state.method) {
@@ -1205,10 +1237,15 @@ async function runFit() {
       // One point is fitted too: the method's own "needs at least 2 points" is the message.
       // An entry of a method this server lacks is fitted too: its row shows the server's error.
       const entries = [...state.ensemble];
-      const [main, ...others] = await Promise.all([
-        postFit(state.method, state.options),
-        ...entries.map(postEntry),
-      ]);
+      const mainDone = postFit(state.method, state.options);
+      const entriesDone = Promise.all(entries.map(postEntry));
+      if (entries.length) {
+        // The edited curve goes on screen as soon as its fit is back: the entries' fits share
+        // the server's cores and the browser's connections, and came back up to 40 ms later.
+        const first = await mainDone;
+        if (first.fit && curveId === selectedCurve().id) mainMs = drawMainEarly(first, since);
+      }
+      const [main, others] = await Promise.all([mainDone, entriesDone]);
       // Another curve was selected meanwhile: these fits are not of its data.
       if (curveId !== selectedCurve().id) { fitPending = true; return; }
       // A failed fit keeps the last good curve, dimmed, next to its error (also mid-drag).
@@ -1231,6 +1268,7 @@ async function runFit() {
     render();
     lastDrawMs = performance.now() - drawStart;
     if (since != null) lastLatencyMs = performance.now() - since;
+    lastMainLatencyMs = mainMs;
     renderReport();
   } finally {
     fitInFlight = false;
@@ -1238,13 +1276,37 @@ async function runFit() {
   }
 }
 
+/** The main curve and its comb of a successful fit, before the ensemble's fits are back (the
+ * rest is drawn by render() when they are). */
+function drawMainEarly(main, since) {
+  mainFit = main.fit;
+  mainFitKey = main.key;
+  mainStale = false;
+  mainError = null;
+  el.layerMain.classList.remove('stale');
+  const path = childAt(el.layerMain, 0, 'path');
+  setAttrs(path, { d: fitPath(mainFit), 'data-testid': `curve-${mainFit.method}` });
+  path.removeAttribute('data-stale');
+  renderComb();
+  return since == null ? null : performance.now() - since;
+}
+
 /** Any change of the data: redraw the points now, save the hash, refit soon. */
 function changed() {
   editSince ??= performance.now();
   renderPoints();
   renderSelection();
-  saveHash();
+  saveHashSoon();
   requestFit();
+}
+
+let hashDeferred = false;
+
+/** saveHash, or during a drag at its end: history.replaceState with the document's text took
+ * 10 ms per pointer move at 50 points (and grows with the points). */
+function saveHashSoon() {
+  if (drag) hashDeferred = true;
+  else saveHash();
 }
 
 // ---------- view: zoom and pan ----------
@@ -1267,8 +1329,9 @@ function applyView() {
 function setView(view) {
   if (!(view.w > 0) || !Number.isFinite(view.w) || !Number.isFinite(view.x) || !Number.isFinite(view.y)) return;
   state.view = view;
+  if (drag) drag.toWorld = null; // the transform changed under the drag
   applyView();
-  saveHash();
+  saveHashSoon();
 }
 
 /** SVG user coordinates (before the world's y flip) of a client position. */
@@ -1284,7 +1347,14 @@ function toWorld(evt) {
   const p = el.canvas.createSVGPoint();
   p.x = evt.clientX;
   p.y = evt.clientY;
-  const q = p.matrixTransform(el.world.getScreenCTM().inverse());
+  // A drag keeps the transform it started with (reading it forces a style and layout update,
+  // which after a fit's drawing is that drawing's whole restyle, in the pointer's handler).
+  let inverse = drag?.toWorld;
+  if (!inverse) {
+    inverse = el.world.getScreenCTM().inverse();
+    if (drag) drag.toWorld = inverse;
+  }
+  const q = p.matrixTransform(inverse);
   return [q.x, q.y];
 }
 
@@ -1362,16 +1432,16 @@ function renderPoints() {
   const bad = mainError?.index;
   const r = POINT_R_PX * unit();
   const chosen = new Set(selectedIndices());
+  // Only what changed is written: a drag moves one point of 500.
+  const circles = layer.children;
   state.points.forEach(([x, y], i) => {
-    const c = layer.children[i];
-    c.setAttribute('cx', x);
-    c.setAttribute('cy', y);
-    c.setAttribute('r', r);
-    c.dataset.kind = kindOf(i) ?? 'node';
-    c.dataset.states = state.states[i].join('/');
-    c.classList.toggle('selected', chosen.has(i));
-    c.classList.toggle('primary', i === state.selected);
-    c.classList.toggle('error', i === bad);
+    const [a, b] = state.states[i];
+    setAttrs(circles[i], {
+      cx: x, cy: y, r,
+      'data-kind': kindOf(i) ?? 'node',
+      'data-states': `${a}/${b}`,
+      class: `${chosen.has(i) ? 'selected' : ''}${i === state.selected ? ' primary' : ''}${i === bad ? ' error' : ''}`,
+    });
   });
   renderEmptyHint();
   renderKinds();
@@ -1382,11 +1452,25 @@ function renderPoints() {
  * discs of data balls with the position the fit chose in each (a ring; filled when the curve
  * touches the disc's circle there).
  */
+let kindsKey = null; // what the layer shows, so that it is rebuilt only when that changes
+
 function renderKinds() {
-  el.layerKinds.replaceChildren();
   const u = unit();
   const balls = fitIndexOf(0) >= 0 ? mainFit.method_report?.balls : null;
   const onCircle = new Set(balls?.active ?? []);
+  // Only nodes with a ball, a clamped or free side draw here: a drag of a plain node, which is
+  // most fits of a drag, leaves the layer as it is.
+  const drawn = [];
+  state.states.forEach(([a, b], i) => {
+    if ((state.radii[i] ?? 0) > 0 || a !== 'regular' || b !== 'regular') {
+      drawn.push([i, state.points[i], state.radii[i], a, b, nodeArrows(i), balls ? [mainFit.points?.[fitIndexOf(i)], onCircle.has(i)] : 0]);
+    }
+  });
+  const inserted = fitIndexOf(0) >= 0 ? (mainFit.method_report?.inserted ?? []).map((k) => [k, mainFit.points[k]]) : [];
+  const key = JSON.stringify([u, drawn, inserted, mainFit?.method]);
+  if (key === kindsKey) return;
+  kindsKey = key;
+  el.layerKinds.replaceChildren();
   // Points the method inserted (jaklic-zagar, reversal=insert): the curve passes through them,
   // so they are drawn, smaller and not draggable.
   if (fitIndexOf(0) >= 0) {
@@ -1471,7 +1555,11 @@ function renderSelection() {
   el.radius.disabled = !ok || !capabilitiesOf(state.method).data_balls;
   const show = (input, text, enabled = ok) => {
     input.disabled = !enabled;
-    if (document.activeElement !== input) { input.value = ok ? text : ''; input.classList.remove('invalid'); }
+    if (document.activeElement !== input) {
+      const value = ok ? text : '';
+      if (input.value !== value) input.value = value; // a drag calls this on every pointer move
+      input.classList.remove('invalid');
+    }
   };
   show(el.radius, ok ? String(state.radii[i] ?? 0) : '0');
   if (!ok && document.activeElement !== el.radius) el.radius.value = '0';
@@ -1506,21 +1594,47 @@ function normalDeg(d) {
 }
 
 /** Curvature comb of the main curve: teeth along the normal, length ∝ signed curvature. */
-function renderComb() {
-  el.layerComb.replaceChildren();
-  el.layerComb.classList.toggle('stale', mainStale);
-  if (!state.comb || !mainFit) return;
-  const samples = sampleCurve(mainFit.segments, COMB_SAMPLES).filter((s) => s.kappa != null);
-  const kmax = Math.max(1e-300, ...samples.map((s) => Math.abs(s.kappa)));
-  const scale = (COMB_MAX_PX * unit()) / kmax;
-  const tips = [];
-  for (const { pt, normal, kappa } of samples) {
-    // Teeth point away from the centre of curvature.
-    const tip = [pt[0] - normal[0] * kappa * scale, pt[1] - normal[1] * kappa * scale];
-    tips.push(tip);
-    el.layerComb.append(svg('line', { x1: pt[0], y1: pt[1], x2: tip[0], y2: tip[1] }));
+/** The comb's teeth [[x1, y1, x2, y2], ...] as drawn (the SVG export writes them). */
+let combTeeth = [];
+
+/** Path data of comb teeth (one subpath per tooth) and of the line through their tips. */
+function combPaths(teeth) {
+  // To a hundredth of a pixel of the default view: the full 17 digits made the text three
+  // times as long to build and for chromium to parse.
+  const digits = Math.min(20, Math.max(0, 2 - Math.floor(Math.log10(unit()))));
+  const f = (v) => v.toFixed(digits);
+  let d = '', tips = '';
+  for (const [x1, y1, x2, y2] of teeth) {
+    const x = f(x2), y = f(y2);
+    d += `M${f(x1)} ${f(y1)}L${x} ${y}`;
+    tips += `${tips ? 'L' : 'M'}${x} ${y}`;
   }
-  if (tips.length) el.layerComb.append(svg('polyline', { points: tips.map((p) => p.join(',')).join(' ') }));
+  return { d, tips };
+}
+
+/** Draws a comb into `layer`: one path for all the teeth (`data-teeth` counts them) and one
+ * through their tips. One element per tooth (800 at 50 points) was most of a fit's drawing time. */
+function drawComb(layer, teeth) {
+  if (!teeth.length) { trimLayer(layer, 0); return; }
+  const { d, tips } = combPaths(teeth);
+  setAttrs(childAt(layer, 0, 'path'), { class: 'teeth', d, 'data-teeth': teeth.length });
+  setAttrs(childAt(layer, 1, 'path'), { class: 'tips', d: tips });
+  trimLayer(layer, 2);
+}
+
+/** Curvature comb of the main curve: teeth along the normal, length ∝ signed curvature. */
+function renderComb() {
+  el.layerComb.classList.toggle('stale', mainStale);
+  combTeeth = [];
+  if (state.comb && mainFit) {
+    const samples = sampleCurve(mainFit.segments, COMB_SAMPLES).filter((s) => s.kappa != null);
+    let kmax = 1e-300;
+    for (const s of samples) kmax = Math.max(kmax, Math.abs(s.kappa));
+    const scale = (COMB_MAX_PX * unit()) / kmax;
+    // Teeth point away from the centre of curvature.
+    combTeeth = samples.map(({ pt, normal, kappa }) => [pt[0], pt[1], pt[0] - normal[0] * kappa * scale, pt[1] - normal[1] * kappa * scale]);
+  }
+  drawComb(el.layerComb, combTeeth);
 }
 
 /**
@@ -1542,14 +1656,10 @@ function renderOtherCombs() {
   const cap = 2 * COMB_MAX_PX * unit();
   for (const f of sampled) {
     const g = svg('g', { stroke: f.color, 'data-testid': `comb-${f.id}` });
-    const tips = [];
-    for (const { pt, normal, kappa } of f.samples) {
+    drawComb(g, f.samples.map(({ pt, normal, kappa }) => {
       const len = Math.max(-cap, Math.min(cap, kappa * scale));
-      const tip = [pt[0] - normal[0] * len, pt[1] - normal[1] * len];
-      tips.push(tip);
-      g.append(svg('line', { x1: pt[0], y1: pt[1], x2: tip[0], y2: tip[1] }));
-    }
-    if (tips.length) g.append(svg('polyline', { points: tips.map((p) => p.join(',')).join(' ') }));
+      return [pt[0], pt[1], pt[0] - normal[0] * len, pt[1] - normal[1] * len];
+    }));
     el.layerCombOthers.append(g);
   }
 }
@@ -1568,7 +1678,8 @@ function scheduleReportPanel() {
   renderReportMarks();
   if (reportQueued) return;
   reportQueued = true;
-  setTimeout(() => { reportQueued = false; renderReportPanel(); }, 0);
+  // After the next frame: a task queued at once ran before chromium painted the curve.
+  requestAnimationFrame(() => setTimeout(() => { reportQueued = false; renderReportPanel(); }, 0));
 }
 
 /** The panel, and the rings of its marked nodes on the canvas. */
@@ -1641,7 +1752,7 @@ function renderPlot() {
   el.plot.toggleAttribute('hidden', !state.plot); // an <svg> has no .hidden property
   if (!state.plot) return;
   const curves = [];
-  const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(4, Math.ceil(PLOT_SAMPLES / segments.length))));
+  const samples = (segments) => sampleCurve(segments, Math.min(24, Math.max(2, Math.ceil(PLOT_SAMPLES / segments.length))));
   for (const { c, i, fit } of otherVisibleFits()) {
     curves.push({ name: `curve-${i}`, label: c.name, color: c.color, main: false, samples: samples(fit.segments) });
   }
@@ -1700,8 +1811,9 @@ function sortRows(rows) {
 
 /** The energies table: the selected curve (main) and each ensemble entry; a failure is a row
  * with its message. */
+let tableKey = null; // the rows' identities and failures: a change rebuilds the table
+
 function renderTable() {
-  el.table.replaceChildren();
   const rows = [];
   if (mainFit || mainError) {
     rows.push({ testid: 'row-main', method: state.method, label: `${state.method} (main)`, color: 'var(--fg)',
@@ -1711,7 +1823,21 @@ function renderTable() {
     rows.push({ testid: `row-entry-${r.index}`, method: r.entry.method, label: r.label, color: r.color,
       report: r.result.fit ? r.result.fit.report ?? {} : null, error: r.result.error });
   }
-  for (const row of sortRows(rows)) {
+  const sorted = sortRows(rows);
+  // During a drag only the numbers change: the cells are updated in place.
+  const values = (r) => [r.bending_energy, r.linearized_energy, r.length, r.regular == null ? '—' : (r.regular ? 'yes' : 'no'), r.max_curvature_jump];
+  const key = JSON.stringify(sorted.map((r) => [r.testid, r.method, r.label, r.color, r.report ? 0 : r.error?.message ?? 'failed']));
+  if (key === tableKey) {
+    sorted.forEach((row, k) => {
+      if (!row.report) return;
+      const cells = el.table.rows[k].cells;
+      values(row.report).forEach((v, j) => { const text = fmt(v); if (cells[j + 1].textContent !== text) cells[j + 1].textContent = text; });
+    });
+    return;
+  }
+  tableKey = key;
+  el.table.replaceChildren();
+  for (const row of sorted) {
     const tr = document.createElement('tr');
     tr.dataset.method = row.method;
     tr.dataset.testid = row.testid;
@@ -1724,7 +1850,7 @@ function renderTable() {
     tr.append(head);
     if (row.report) {
       const r = row.report;
-      for (const v of [r.bending_energy, r.linearized_energy, r.length, r.regular == null ? '—' : (r.regular ? 'yes' : 'no'), r.max_curvature_jump]) {
+      for (const v of values(r)) {
         const td = document.createElement('td');
         td.textContent = fmt(v);
         tr.append(td);
@@ -1740,28 +1866,40 @@ function renderTable() {
   }
 }
 
+let legendKey = null; // what the legend shows, so that it is rebuilt only when that changes
+
+/** Draws the last fits. The elements of the curves, comb, plot and table are updated in place
+ * (only the attributes that changed), so that a fit during a drag costs chromium a repaint of
+ * what moved, not a rebuild of every element. */
 function render() {
   renderOtherCurves();
   renderCurvesPanel();
-  el.layerMain.replaceChildren();
   el.layerMain.classList.toggle('stale', mainStale);
   if (mainFit) {
-    const path = svg('path', { d: pathData(mainFit.segments), 'data-testid': `curve-${mainFit.method}` });
-    if (mainStale) path.dataset.stale = '';
-    el.layerMain.append(path);
+    const path = childAt(el.layerMain, 0, 'path');
+    setAttrs(path, { d: fitPath(mainFit), 'data-testid': `curve-${mainFit.method}` });
+    path.toggleAttribute('data-stale', mainStale);
   }
-  el.layerEnsemble.replaceChildren();
-  el.legend.replaceChildren();
-  if (mainFit) addLegend(`${mainFit.method} (main${mainStale ? ', last good fit' : ''})`, 'var(--fg)');
+  trimLayer(el.layerMain, mainFit ? 1 : 0);
+  const legend = [];
+  if (mainFit) legend.push([`${mainFit.method} (main${mainStale ? ', last good fit' : ''})`, 'var(--fg)']);
   doc.curves.forEach((c, i) => {
-    if (i !== doc.selected && c.visible && otherFits.get(c.id)?.fit) addLegend(`${c.name}: ${c.method}`, c.color);
+    if (i !== doc.selected && c.visible && otherFits.get(c.id)?.fit) legend.push([`${c.name}: ${c.method}`, c.color]);
   });
+  let k = 0;
   for (const r of ensembleRows()) {
     if (!r.result.fit) continue;
-    el.layerEnsemble.append(svg('path', {
-      d: pathData(r.result.fit.segments), stroke: r.color, 'data-testid': `curve-${r.id}`, 'data-entry': r.index, 'data-label': r.label,
-    }));
-    addLegend(r.label, r.color);
+    setAttrs(childAt(el.layerEnsemble, k++, 'path'), {
+      d: fitPath(r.result.fit), stroke: r.color, 'data-testid': `curve-${r.id}`, 'data-entry': r.index, 'data-label': r.label,
+    });
+    legend.push([r.label, r.color]);
+  }
+  trimLayer(el.layerEnsemble, k);
+  const key = JSON.stringify(legend);
+  if (key !== legendKey) {
+    legendKey = key;
+    el.legend.replaceChildren();
+    for (const [text, color] of legend) addLegend(text, color);
   }
   renderError();
   renderReport();
@@ -1779,7 +1917,7 @@ function renderReport() {
   const r = mainFit?.report;
   const ms = (v) => (v == null ? '?' : Number(v.toPrecision(2)).toString());
   const timing = mainTiming
-    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms`
+    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms${lastMainLatencyMs == null ? '' : ` (main curve ${ms(lastMainLatencyMs)} ms)`}`
     : '';
   const balls = mainFit?.method_report?.balls;
   const ballText = balls ? ` · data balls ${balls.active.length} of ${balls.count} on their circle (${balls.status})` : '';
@@ -1893,6 +2031,9 @@ el.canvas.addEventListener('pointerdown', (evt) => {
     // A press on another curve of the document selects it (its click adds no point).
     evt.preventDefault();
     selectCurve(Number(curve));
+    // Its release never adds a point: the path under the pointer now draws another curve (its
+    // element is reused), so the click goes to the canvas.
+    drag = { type: 'select' };
     return;
   }
   if (evt.button === 1 || (evt.button === 0 && !onMark)) {
@@ -1933,12 +2074,13 @@ el.canvas.addEventListener('pointerdown', (evt) => {
     type: 'point', index: i, moved: false, from: toWorld(evt),
     orig: new Map(moving.map((j) => [j, [...state.points[j]]])),
   };
+  drag.toWorld = el.world.getScreenCTM().inverse();
   renderPoints();
   renderSelection();
 });
 
 window.addEventListener('pointermove', (evt) => {
-  if (!drag) return;
+  if (!drag || drag.type === 'select') return;
   if (drag.type === 'press' || drag.type === 'pan') {
     const dx = evt.clientX - drag.start[0], dy = evt.clientY - drag.start[1];
     if (drag.type === 'press' && Math.hypot(dx, dy) < DRAG_SLOP_PX) return;
@@ -1995,6 +2137,11 @@ window.addEventListener('pointerup', (evt) => {
   // The click that ends a drag, a pan or a press on a point never adds a point.
   if (drag.type !== 'press') swallowNextClick();
   drag = null;
+});
+
+// The hash held back during the drag (saveHashSoon).
+window.addEventListener('pointerup', () => {
+  if (hashDeferred && !drag) { hashDeferred = false; saveHash(); }
 });
 
 el.canvas.addEventListener('click', (evt) => {
@@ -2349,11 +2496,11 @@ function exportSvgText() {
   if (mainShown) for (const r of ensembleRows()) if (r.result.fit) curves.push({ fit: r.result.fit, color: r.color, width: 1.6 });
   for (const c of curves) for (const s of c.fit.segments) s.bezier.forEach(addPt);
   const shown = (on, layer) => (mainShown && on && !mainStale ? [...layer.children] : []);
-  const comb = shown(state.comb, el.layerComb).filter((node) => node.tagName === 'line');
+  const comb = mainShown && state.comb && !mainStale ? combTeeth : [];
   const polygon = shown(state.polygon, el.layerControl).filter((node) => node.tagName === 'polyline');
-  for (const node of comb) {
-    addPt([Number(node.getAttribute('x1')), Number(node.getAttribute('y1'))]);
-    addPt([Number(node.getAttribute('x2')), Number(node.getAttribute('y2'))]);
+  for (const [x1, y1, x2, y2] of comb) {
+    addPt([x1, y1]);
+    addPt([x2, y2]);
   }
   if (!xs.length) { addPt([0, 0]); addPt([FRAME_W, FRAME_H]); }
   const x0 = Math.min(...xs), x1 = Math.max(...xs);
@@ -2372,10 +2519,7 @@ function exportSvgText() {
     lines.push(`<path d="${pathData(c.fit.segments)}" stroke="${c.color}" ${stroke(c.width)} data-method="${c.fit.method}"${name}/>`);
   }
   for (const node of polygon) lines.push(`<polyline points="${node.getAttribute('points')}" stroke="#98a2b3" stroke-dasharray="4 3" ${stroke(1)}/>`);
-  for (const node of comb) {
-    const a = ['x1', 'y1', 'x2', 'y2'].map((k) => `${k}="${node.getAttribute(k)}"`).join(' ');
-    lines.push(`<line ${a} stroke="${COMB_COLOR}" ${stroke(0.8)}/>`);
-  }
+  for (const [x1, y1, x2, y2] of comb) lines.push(`<line x1="${x1}" y1="${y1}" x2="${x2}" y2="${y2}" stroke="${COMB_COLOR}" ${stroke(0.8)}/>`);
   for (const [x, y] of points) lines.push(`<circle cx="${x}" cy="${y}" r="${4 / px}" fill="#fff" stroke="#1d4ed8" ${stroke(1.5)}/>`);
   lines.push('</g>', '</svg>', '');
   return lines.join('\n');
@@ -2573,7 +2717,7 @@ function importText(text, source) {
     const both = parsed.arrows?.[i] ?? given(parsed.tangents, i);
     if (b === 'clamped') state.tangents[i] = given(parsed.outTangents, i) ?? both;
     if (a === 'clamped') {
-      const inn = given(parsed.inTangents, i);
+      const inn = parsed.inArrows?.[i] ?? given(parsed.inTangents, i);
       // One arrow for both clamped sides unless the file gives the incoming one apart.
       state.inArrows[i] = b === 'clamped' && !inn ? null : inn ?? both;
     }

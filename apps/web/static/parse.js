@@ -124,16 +124,16 @@ const direction = (deg) => [Math.cos((deg * Math.PI) / 180), Math.sin((deg * Mat
 
 /**
  * A Curve Ensemble text file (its header line, then x y DIR CORNER STATE ENERGY per node, missing
- * columns 0; docs/curve-ensemble.md) as the editor's curve. Kept: the positions, closedness (open
- * exactly when the first state is 7 or 3 and the last 7 or 5, as Curve Ensemble decides), data
- * balls (state < 0: radius −state; > 100: state − 100), and the node states as far as the
- * editor's kinds go: 1 clamped (its outgoing direction DIR), 3 at the start of an open curve
- * clamped (DIR), 5 at its end clamped (DIR − CORNER), 7 at an open end smooth (a free end);
- * inside the curve 7, 3 and 5 split it (corner; a clamped side is lost). Lost: a regular node's
- * CORNER, a clamped node's separate incoming direction, and the energy column. A clamped
- * direction becomes an arrow a third of the chord to the neighbouring node long (the Bézier arm
- * of an even curve), since the file gives a direction only. The method is Curve Ensemble's
- * default, restricted-elastic.
+ * columns 0; docs/curve-ensemble.md) as the editor's curve, read as the library reads it
+ * (include/fairspline/io/curve_ensemble.hpp): the positions; closedness (open exactly when the
+ * first state is 7 or 3 and the last 7 or 5, as Curve Ensemble decides); data balls (state < 0:
+ * radius −state; > 100: state − 100; a regular node, its DIR and CORNER not inputs); and every
+ * node state with its directions: 0 regular with its CORNER as the corner angle, 1 clamped with
+ * the outgoing direction DIR and the incoming DIR − CORNER (two arrows when they differ), 3
+ * [free, clamped] with DIR, 5 [clamped, free] with DIR − CORNER, 7 free. A direction becomes an
+ * arrow a third of the chord to the neighbour on its side long (the Bézier arm of an even
+ * curve), since the file gives a direction only. The energy column is not read. The method is
+ * Curve Ensemble's default, restricted-elastic.
  */
 function fromCurveEnsemble(text) {
   const rows = [];
@@ -157,25 +157,39 @@ function fromCurveEnsemble(text) {
   if (threeColumns) return { points, closed: true, radii: rows.map((r) => Math.max(0, r[2])), method: 'restricted-elastic', alpha: 0.5 };
   const state = (r) => r[4];
   const closed = !([CE.FREE, CE.FREE_CLAMPED].includes(state(rows[0])) && [CE.FREE, CE.CLAMPED_FREE].includes(state(rows[n - 1])));
-  const kinds = Array(n).fill('smooth');
-  const arrows = Array(n).fill(null);
   const radii = rows.map((r) => (state(r) < 0 ? -state(r) : state(r) > 100 ? state(r) - 100 : 0));
-  const armLength = (i) => {
-    const j = i + 1 < n ? i + 1 : (closed ? 0 : i - 1);
-    return j >= 0 && j !== i ? Math.hypot(points[j][0] - points[i][0], points[j][1] - points[i][1]) / 3 : 1;
-  };
-  const clamp = (i, deg) => {
-    kinds[i] = 'clamped';
-    arrows[i] = direction(deg).map((v) => v * armLength(i));
-  };
+  // The chord on a side of node i, over 3: the next node's for the outgoing side, the previous
+  // one's for the incoming side (the other neighbour past an open end).
+  const chord = (i, j) => (j >= 0 && j < n && j !== i ? Math.hypot(points[j][0] - points[i][0], points[j][1] - points[i][1]) / 3 : 0);
+  const next = (i) => (i + 1 < n ? i + 1 : closed ? 0 : i - 1);
+  const prev = (i) => (i > 0 ? i - 1 : closed ? n - 1 : i + 1);
+  const arrow = (deg, len) => direction(deg).map((v) => v * (len || 1));
+  const states = [], arrows = Array(n).fill(null), inArrows = Array(n).fill(null), corners = Array(n).fill(0);
   rows.forEach((r, i) => {
-    const s = state(r), end = !closed && (i === 0 || i === n - 1);
-    if (s === CE.CLAMPED) clamp(i, r[2]);
-    else if (!closed && i === 0 && s === CE.FREE_CLAMPED) clamp(i, r[2]);
-    else if (!closed && i === n - 1 && s === CE.CLAMPED_FREE) clamp(i, r[2] - r[3]);
-    else if (!end && [CE.FREE, CE.FREE_CLAMPED, CE.CLAMPED_FREE].includes(s)) kinds[i] = 'corner';
+    const [, , dir, corner] = r;
+    const s = state(r);
+    const outArrow = () => arrow(dir, chord(i, next(i)));
+    const inArrow = () => arrow(dir - corner, chord(i, prev(i)));
+    if (s === CE.CLAMPED) {
+      states.push(['clamped', 'clamped']);
+      arrows[i] = outArrow();
+      // One arrow for both sides when the directions agree; else the incoming one of its own.
+      if (corner !== 0) inArrows[i] = inArrow();
+    } else if (s === CE.FREE_CLAMPED) {
+      states.push(['free', 'clamped']);
+      arrows[i] = outArrow();
+    } else if (s === CE.CLAMPED_FREE) {
+      states.push(['clamped', 'free']);
+      inArrows[i] = inArrow();
+    } else if (s === CE.FREE) {
+      states.push(['free', 'free']);
+    } else {
+      // Regular, or a data ball (whose DIR and CORNER say where Curve Ensemble put its node).
+      states.push(['regular', 'regular']);
+      if (s === CE.REGULAR) corners[i] = corner;
+    }
   });
-  const out = { points, closed, kinds, arrows, radii, method: 'restricted-elastic', alpha: 0.5 };
+  const out = { points, closed, states, arrows, inArrows, corners, radii, method: 'restricted-elastic', alpha: 0.5 };
   if (!radii.some((r) => r > 0)) delete out.radii;
   return out;
 }
@@ -193,10 +207,13 @@ export function parseImport(text) {
   // A tangent makes a point clamped unless its kind (or state) says otherwise.
   if (out.tangents && !out.kinds && !out.states) out.kinds = out.tangents.map((t) => (t ? 'clamped' : 'smooth'));
   if (out.states) {
+    // Directions: tangents (both sides), in/out tangents, or a Curve Ensemble file's arrows
+    // (outgoing) and inArrows; a node clamped on both sides may give one side's only.
     out.states.forEach(([a, b], i) => {
       const any = out.tangents?.[i];
-      if (a === 'clamped' && !any && !out.inTangents?.[i] && !(b === 'clamped' && out.outTangents?.[i])) throw new Error(`point ${i} is clamped on its incoming side but has no direction there`);
-      if (b === 'clamped' && !any && !out.outTangents?.[i] && !(a === 'clamped' && out.inTangents?.[i])) throw new Error(`point ${i} is clamped on its outgoing side but has no direction there`);
+      const inn = out.inTangents?.[i] ?? out.inArrows?.[i], outs = out.outTangents?.[i] ?? out.arrows?.[i];
+      if (a === 'clamped' && !any && !inn && !(b === 'clamped' && outs)) throw new Error(`point ${i} is clamped on its incoming side but has no direction there`);
+      if (b === 'clamped' && !any && !outs && !(a === 'clamped' && inn)) throw new Error(`point ${i} is clamped on its outgoing side but has no direction there`);
     });
   }
   if (out.kinds) {

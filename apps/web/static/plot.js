@@ -13,17 +13,62 @@ function node(tag, attrs = {}, text = null) {
 
 const short = (v) => Number(v.toPrecision(3)).toString();
 
+/** Sets the attributes of `n` that differ from those this module last wrote. */
+function set(n, attrs) {
+  const last = (n.plotAttrs ??= {});
+  for (const [k, v] of Object.entries(attrs)) {
+    const text = String(v);
+    if (last[k] !== text) { last[k] = text; n.setAttribute(k, text); }
+  }
+}
+
+/** The plot's fixed elements, made once per <svg> and then updated in place: rebuilding the
+ * whole plot on every fit of a drag made chromium restyle and repaint all of it. */
+function skeleton(svgEl) {
+  if (svgEl.plotParts) return svgEl.plotParts;
+  svgEl.setAttribute('viewBox', `0 0 ${W} ${H}`);
+  svgEl.replaceChildren();
+  const clipId = `${svgEl.id || 'plot'}-clip`;
+  const parts = {
+    axes: node('g', { class: 'axes' }),
+    zero: node('line', { x1: PAD_L, x2: W - PAD_R }),
+    vertical: node('line', { x1: PAD_L, y1: PAD_T, x2: PAD_L, y2: H - PAD_B }),
+    kTop: node('text', { x: PAD_L - 4, 'text-anchor': 'end' }),
+    kZero: node('text', { x: PAD_L - 4, 'text-anchor': 'end' }, '0'),
+    kBottom: node('text', { x: PAD_L - 4, 'text-anchor': 'end' }),
+    s0: node('text', { x: PAD_L, y: H - 6 }, 's = 0'),
+    sEnd: node('text', { x: W - PAD_R, y: H - 6, 'text-anchor': 'end' }),
+    title: node('text', { x: (W + PAD_L) / 2, y: H - 6, 'text-anchor': 'middle' }, 'curvature κ against arc length s'),
+    clip: node('clipPath', { id: clipId }),
+    // The joints of the main curve: one path of vertical strokes.
+    joints: node('path', { class: 'joints' }),
+    lines: node('g', { class: 'lines' }),
+    clipId,
+  };
+  parts.axes.append(parts.zero, parts.vertical, parts.kTop, parts.kZero, parts.kBottom, parts.s0, parts.sEnd, parts.title);
+  parts.clip.append(node('rect', { x: PAD_L, y: PAD_T, width: W - PAD_L - PAD_R, height: H - PAD_T - PAD_B }));
+  svgEl.plotParts = parts;
+  return parts;
+}
+
+const setText = (n, text) => { if (n.textContent !== text) n.textContent = text; };
+
 /**
  * curves: [{name, label?, color, main, stale, samples}] with samples from sampleCurve() (stale: the last
- * good fit of data that now fail, drawn dimmed). Replaces the
+ * good fit of data that now fail, drawn dimmed). Updates the
  * content of `svgEl`. Samples whose curvature is undefined (zero speed) break the line.
  */
 export function renderCurvaturePlot(svgEl, curves) {
-  svgEl.setAttribute('viewBox', `0 0 ${W} ${H}`);
-  svgEl.replaceChildren();
+  const parts = skeleton(svgEl);
   const usable = curves.filter((c) => c.samples.length > 1);
-  if (!usable.length) return;
-  const sMax = Math.max(1e-300, ...usable.map((c) => c.samples[c.samples.length - 1].s));
+  if (!usable.length) {
+    if (svgEl.firstChild) svgEl.replaceChildren();
+    parts.lines.replaceChildren();
+    return;
+  }
+  if (!svgEl.firstChild) svgEl.append(parts.axes, parts.clip, parts.joints, parts.lines);
+  let sMax = 1e-300;
+  for (const c of usable) sMax = Math.max(sMax, c.samples[c.samples.length - 1].s);
   // The scale is the main curve's (when there is one): another curve's spike is clipped
   // rather than flattening the curve being edited.
   const main = usable.find((c) => c.main);
@@ -33,32 +78,25 @@ export function renderCurvaturePlot(svgEl, curves) {
   const x = (s) => PAD_L + (s / sMax) * (W - PAD_L - PAD_R);
   const y = (k) => PAD_T + (1 - (k / kMax + 1) / 2) * (H - PAD_T - PAD_B);
 
-  const axes = node('g', { class: 'axes' });
-  axes.append(
-    node('line', { x1: PAD_L, y1: y(0), x2: W - PAD_R, y2: y(0) }),
-    node('line', { x1: PAD_L, y1: PAD_T, x2: PAD_L, y2: H - PAD_B }),
-    node('text', { x: PAD_L - 4, y: y(kMax) + 4, 'text-anchor': 'end' }, short(kMax)),
-    node('text', { x: PAD_L - 4, y: y(0) + 4, 'text-anchor': 'end' }, '0'),
-    node('text', { x: PAD_L - 4, y: y(-kMax) + 4, 'text-anchor': 'end' }, short(-kMax)),
-    node('text', { x: PAD_L, y: H - 6 }, 's = 0'),
-    node('text', { x: W - PAD_R, y: H - 6, 'text-anchor': 'end' }, `s = ${short(sMax)}`),
-    node('text', { x: (W + PAD_L) / 2, y: H - 6, 'text-anchor': 'middle' }, 'curvature κ against arc length s'),
-  );
-  svgEl.append(axes);
+  set(parts.zero, { y1: y(0), y2: y(0) });
+  set(parts.kTop, { y: y(kMax) + 4 });
+  setText(parts.kTop, short(kMax));
+  set(parts.kZero, { y: y(0) + 4 });
+  set(parts.kBottom, { y: y(-kMax) + 4 });
+  setText(parts.kBottom, short(-kMax));
+  setText(parts.sEnd, `s = ${short(sMax)}`);
 
-  const clipId = `${svgEl.id || 'plot'}-clip`;
-  const clip = node('clipPath', { id: clipId });
-  clip.append(node('rect', { x: PAD_L, y: PAD_T, width: W - PAD_L - PAD_R, height: H - PAD_T - PAD_B }));
-  svgEl.append(clip);
+  let joints = '';
   if (main) {
-    const joints = node('g', { class: 'joints' });
     for (const p of main.samples) {
-      if (p.segmentStart && p.s > 0) joints.append(node('line', { x1: x(p.s), y1: PAD_T, x2: x(p.s), y2: H - PAD_B }));
+      if (p.segmentStart && p.s > 0) joints += `M${x(p.s).toFixed(2)} ${PAD_T}V${H - PAD_B}`;
     }
-    svgEl.append(joints);
   }
+  set(parts.joints, { d: joints });
   // The main curve last, on top.
-  for (const c of [...usable.filter((u) => !u.main), ...usable.filter((u) => u.main)]) {
+  const ordered = [...usable.filter((u) => !u.main), ...usable.filter((u) => u.main)];
+  const lines = parts.lines;
+  ordered.forEach((c, k) => {
     let d = '';
     let pen = false;
     for (const p of c.samples) {
@@ -67,8 +105,13 @@ export function renderCurvaturePlot(svgEl, curves) {
       pen = true;
     }
     const cls = [c.main ? 'main' : '', c.stale ? 'stale' : ''].filter(Boolean).join(' ');
-    const line = node('path', { d, stroke: c.color, class: cls, 'clip-path': `url(#${clipId})`, 'data-testid': `kappa-${c.name}` });
-    if (c.label) line.append(node('title', {}, c.label));
-    svgEl.append(line);
-  }
+    while (lines.children.length <= k) lines.append(node('path', { 'clip-path': `url(#${parts.clipId})` }));
+    const line = lines.children[k];
+    set(line, { d, stroke: c.color, class: cls, 'data-testid': `kappa-${c.name}` });
+    const title = line.firstChild;
+    if (!c.label) title?.remove();
+    else if (!title) line.append(node('title', {}, c.label));
+    else setText(title, c.label);
+  });
+  while (lines.children.length > ordered.length) lines.lastChild.remove();
 }
