@@ -358,6 +358,27 @@ await run(async ({ page, url }) => {
       'a document of kinds only is saved as version 1, with kinds');
   });
 
+  await section('the panel\'s side states and corner apply to every selected point', async () => {
+    await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
+    await waitForPieces(page, 'quasi-elastic', 4);
+    await settled();
+    await page.click(sel('point-1'));
+    await page.click(sel('point-3'), { modifiers: ['Shift'] });
+    // (The corner first: it belongs to regular nodes, and the field is off beside a free side.)
+    await page.fill(sel('node-corner'), '-12');
+    await page.press(sel('node-corner'), 'Enter');
+    await settled();
+    check(JSON.stringify(last().corners_deg) === JSON.stringify([0, -12, 0, -12, 0]), `one corner angle for both (${JSON.stringify(last().corners_deg)})`);
+    await page.selectOption(sel('state-out'), 'free');
+    await settled();
+    check(JSON.stringify(last().states) === JSON.stringify(['regular', ['regular', 'free'], 'regular', ['regular', 'free'], 'regular']),
+      `one side state for two selected points (${JSON.stringify(last().states)})`);
+    await page.keyboard.press('Control+z');
+    await page.keyboard.press('Control+z');
+    await settled();
+    check(last().states === undefined && last().corners_deg === undefined, 'two undos take both changes back from both points');
+  });
+
   await section('the address keeps the node model: a reload sends the same request', async () => {
     await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
     await waitForPieces(page, 'quasi-elastic', 4);
