@@ -46,10 +46,14 @@ await run(async ({ page, url }) => {
   const fitOf = (body) => page.evaluate(async (b) => (await fetch('/api/fit', { method: 'POST', body: JSON.stringify(b) })).json(), body);
   /** World units per screen pixel (the canvas's transform). */
   const pixel = () => page.evaluate(() => 1 / document.getElementById('world').getScreenCTM().a);
+  /** A new page of the five points, fitted by quasi-elastic. */
+  const freshFive = async () => {
+    await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
+    await waitForPieces(page, 'quasi-elastic', 4);
+    await settled();
+  };
 
-  await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
-  await waitForPieces(page, 'quasi-elastic', 4);
-  await settled();
+  await freshFive();
 
   await section('node model: per-side states, corner, typed fields', async () => {
     await page.click(sel('point-2'));
@@ -152,9 +156,7 @@ await run(async ({ page, url }) => {
   });
 
   await section('multi-select: shift-click, drag many, ctrl-click removes, box, Delete', async () => {
-    await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
-    await waitForPieces(page, 'quasi-elastic', 4);
-    await settled();
+    await freshFive();
     await page.click(sel('point-0'));
     await page.click(sel('point-2'), { modifiers: ['Shift'] });
     const selected = await page.$$eval('[data-testid^="point-"].selected', (cs) => cs.map((c) => c.dataset.index).join(','));
@@ -215,9 +217,7 @@ await run(async ({ page, url }) => {
   });
 
   await section('snapping to the grid and to points', async () => {
-    await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
-    await waitForPieces(page, 'quasi-elastic', 4);
-    await settled();
+    await freshFive();
     await page.check(sel('snap'));
     const label = await page.locator(sel('snap-label')).textContent();
     check(label === '(grid 20)' && await page.locator('[data-testid="grid"] line').count() > 20, `snapping shows its grid and spacing (${label})`);
@@ -359,9 +359,7 @@ await run(async ({ page, url }) => {
   });
 
   await section('the panel\'s side states and corner apply to every selected point', async () => {
-    await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
-    await waitForPieces(page, 'quasi-elastic', 4);
-    await settled();
+    await freshFive();
     await page.click(sel('point-1'));
     await page.click(sel('point-3'), { modifiers: ['Shift'] });
     // (The corner first: it belongs to regular nodes, and the field is off beside a free side.)
@@ -380,9 +378,7 @@ await run(async ({ page, url }) => {
   });
 
   await section('the address keeps the node model: a reload sends the same request', async () => {
-    await page.goto(url + hashOf({ p: FIVE, m: 'quasi-elastic' }));
-    await waitForPieces(page, 'quasi-elastic', 4);
-    await settled();
+    await freshFive();
     await page.click(sel('point-2'));
     await page.selectOption(sel('state-out'), 'free');
     await settled();
