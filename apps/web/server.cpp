@@ -21,6 +21,7 @@
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/registry.hpp"
+#include "live.hpp"
 
 namespace fairspline::web {
 
@@ -252,9 +253,12 @@ ApiResponse FitRunner::fit(std::string_view body) {
 // ---------------------------------------------------------------- Server
 
 struct Server::Impl {
-  explicit Impl(ServerOptions opt) : options(std::move(opt)), runner(options) {}
+  explicit Impl(ServerOptions opt)
+      : options(std::move(opt)), runner(options), live(runner, options.max_body_bytes) {}
   ServerOptions options;
-  FitRunner runner;  // destroyed after http, whose handlers call it
+  FitRunner runner;  // destroyed after http and live, which call it
+  LiveChannel live;
+  int live_port = -1;  // −1: no live channel (the page fits over HTTP)
   httplib::Server http;
   bool binding = false;                  // inside bind(): sockets made are listeners
   ::socket_t listener = INVALID_SOCKET;  // the listening socket, once bound
@@ -285,6 +289,12 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(o
     const ApiResponse r = handle_methods();
     res.status = r.status;
     res.set_content(r.body, "application/json");
+  });
+  // The live channel is on a port of its own: the page asks for it.
+  http.Get("/api/live", [impl = impl_.get()](const httplib::Request&, httplib::Response& res) {
+    const nlohmann::json port =
+        impl->live_port > 0 ? nlohmann::json(impl->live_port) : nlohmann::json(nullptr);
+    res.set_content(nlohmann::json{{"port", port}, {"path", kLivePath}}.dump(), "application/json");
   });
   http.Post("/api/fit",
             [&runner = impl_->runner](const httplib::Request& req, httplib::Response& res) {
@@ -349,15 +359,25 @@ int Server::bind() {
   // clients resent them a second later (TcpExtListenOverflows; p99 latency 1.1 s in the load
   // test). Calling listen() again on a listening socket sets its backlog (Linux, POSIX).
   if (port > 0 && impl_->listener != INVALID_SOCKET) ::listen(impl_->listener, kListenBacklog);
+  if (port > 0) impl_->live_port = impl_->live.bind(impl_->options.host, port);
   return port;
 }
 
 bool Server::run() {
-  return impl_->http.listen_after_bind();
+  impl_->live.start();
+  const bool ok = impl_->http.listen_after_bind();
+  impl_->live.stop();
+  return ok;
 }
 
 void Server::stop() {
-  if (impl_) impl_->http.stop();
+  if (!impl_) return;
+  impl_->http.stop();
+  impl_->live.stop();
+}
+
+int Server::live_port() const {
+  return impl_->live_port;
 }
 
 }  // namespace fairspline::web

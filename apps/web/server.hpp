@@ -74,7 +74,8 @@ class FitRunner {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The HTTP server: GET /api/methods, POST /api/fit through a FitRunner, the static files.
+/// The HTTP server: GET /api/methods, POST /api/fit through a FitRunner, GET /api/live (the port
+/// of the live channel, a WebSocket for the same fits: live.hpp), the static files.
 /// Not copyable; stop() may be called from another thread. The destructor waits for fits
 /// still running in the background.
 class Server {
@@ -89,6 +90,8 @@ class Server {
   /// Serves until stop(); call after bind(). Returns false if the listener failed.
   bool run();
   void stop();
+  /// The port of the live channel (live.hpp) bound by bind(), or −1 without one.
+  int live_port() const;
 
  private:
   struct Impl;

@@ -1,7 +1,14 @@
 // Tests of the web server (apps/web/server.cpp): the JSON API's handlers on every error path,
-// the time and concurrency limits of FitRunner, and HTTP round trips on a free loopback port.
+// the time and concurrency limits of FitRunner, HTTP round trips on a free loopback port, and
+// the live channel (apps/web/live.cpp) through a WebSocket client written here from RFC 6455.
 // (Under load, with the real `fairspline serve`: tests/web/server_load.cpp, CTest web.load.)
 #include "server.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -9,6 +16,7 @@
 #include <chrono>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -17,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fairspline/registry.hpp"
+#include "live.hpp"
 #include "test_util.hpp"
 
 namespace fairspline::web {
@@ -54,7 +63,9 @@ class LiveServer {
   LiveServer(const LiveServer&) = delete;
   LiveServer& operator=(const LiveServer&) = delete;
   int port() const { return port_; }
+  int live_port() const { return server_.live_port(); }
   httplib::Client& client() { return *client_; }
+  void stop() { server_.stop(); }
 
  private:
   static ServerOptions on_free_port(ServerOptions opt) {
@@ -375,6 +386,254 @@ TEST(WebApi, HttpOnlyCodesAreInTheErrorDocs) {
         "the server is busy: every fit slot (N) is taken by a fit that went past the time limit",
         "the server is busy: no fit slot (of N) came free within the time limit of"}) {
     EXPECT_NE(section.find(text), std::string::npos) << "docs/errors.md should say: " << text;
+  }
+}
+
+// ---------------------------------------------------------------- the live channel
+
+TEST(LiveChannel, AnswerWrapsTheHttpBodyWithStatusAndTime) {
+  EXPECT_EQ(live_answer(200, 0.4567, R"({"a":1})"),
+            R"({"status":200,"ms":0.457,"answer":{"a":1}})");
+  const json j = json::parse(live_answer(400, 12.0, R"({"error":{"code":"x"}})"));
+  EXPECT_EQ(j.at("status"), 400);
+  EXPECT_EQ(j.at("answer").at("error").at("code"), "x");
+  EXPECT_TRUE(json::parse(live_answer(503, 0, "")).at("answer").is_null());
+}
+
+TEST(LiveChannel, OnlyTheEditorsOwnPageMayConnect) {
+  EXPECT_TRUE(live_origin_allowed("", "127.0.0.1:5000", 8080));  // not a browser
+  EXPECT_TRUE(live_origin_allowed("http://127.0.0.1:8080", "127.0.0.1:5000", 8080));
+  EXPECT_TRUE(live_origin_allowed("http://LocalHost:8080", "localhost:5000", 8080));
+  EXPECT_TRUE(live_origin_allowed("http://[::1]:8080", "[::1]:5000", 8080));
+  EXPECT_TRUE(live_origin_allowed("http://example.org", "example.org:5000", 80));
+  EXPECT_FALSE(live_origin_allowed("http://127.0.0.1:8081", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("http://evil.example:8080", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("http://127.0.0.1.evil:8080", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("null", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("https://127.0.0.1:8080", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("http://127.0.0.1:8080/x", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("http://127.0.0.1:80x80", "127.0.0.1:5000", 8080));
+  EXPECT_FALSE(live_origin_allowed("http://:8080", ":5000", 8080));
+}
+
+/// A WebSocket client of the live channel, from RFC 6455 alone (not Boost.Beast, which the
+/// server uses): the handshake with the RFC's own key, masked frames out, frames in. Reads time
+/// out after 20 s, so that a silent server fails the test instead of hanging it.
+class WsClient {
+ public:
+  struct Frame {
+    int opcode = -1;
+    std::string payload;
+  };
+
+  /// Connects and sends the upgrade request (extra headers end in "\r\n"); returns the
+  /// server's answer head, up to its blank line.
+  std::string open(int port, const std::string& path = "/api/live", const std::string& extra = "",
+                   bool upgrade = true) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    timeval tv{20, 0};
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<std::uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) return {};
+    std::string req =
+        "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n";
+    if (upgrade) {
+      req +=
+          "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+          "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n";
+    }
+    send_all(req + extra + "\r\n");
+    std::string head;
+    char c = 0;
+    while (!head.ends_with("\r\n\r\n") && ::recv(fd_, &c, 1, 0) == 1) head.push_back(c);
+    return head;
+  }
+  ~WsClient() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  WsClient() = default;
+  WsClient(const WsClient&) = delete;
+  WsClient& operator=(const WsClient&) = delete;
+
+  void send(int opcode, std::string_view payload) {
+    std::string frame(1, static_cast<char>(0x80 | opcode));
+    const std::size_t n = payload.size();
+    if (n < 126) {
+      frame.push_back(static_cast<char>(0x80 | n));
+    } else if (n < 65536) {
+      frame.push_back(static_cast<char>(0x80 | 126));
+      for (int s = 8; s >= 0; s -= 8) frame.push_back(static_cast<char>((n >> s) & 0xff));
+    } else {
+      frame.push_back(static_cast<char>(0x80 | 127));
+      for (int s = 56; s >= 0; s -= 8) frame.push_back(static_cast<char>((n >> s) & 0xff));
+    }
+    const unsigned char mask[4] = {0x37, 0xfa, 0x21, 0x3d};
+    frame.append(reinterpret_cast<const char*>(mask), 4);
+    for (std::size_t i = 0; i < n; ++i)
+      frame.push_back(static_cast<char>(payload[i] ^ mask[i % 4]));
+    send_all(frame);
+  }
+
+  /// The next message (its frames joined), or none when the connection ends first.
+  std::optional<Frame> read() {
+    std::optional<Frame> message;
+    for (;;) {
+      bool fin = false;
+      auto frame = read_frame(fin);
+      if (!frame) return std::nullopt;
+      if (!message) {
+        message = std::move(frame);
+      } else {
+        message->payload += frame->payload;  // a continuation (opcode 0)
+      }
+      if (fin) return message;
+    }
+  }
+
+ private:
+  std::optional<Frame> read_frame(bool& fin) {
+    unsigned char h[2];
+    if (!recv_all(h, 2)) return std::nullopt;
+    std::uint64_t n = h[1] & 0x7f;
+    if (n >= 126) {
+      unsigned char ext[8];
+      const std::size_t k = n == 126 ? 2 : 8;
+      if (!recv_all(ext, k)) return std::nullopt;
+      n = 0;
+      for (std::size_t i = 0; i < k; ++i) n = (n << 8) | ext[i];
+    }
+    Frame f;
+    fin = (h[0] & 0x80) != 0;
+    f.opcode = h[0] & 0x0f;
+    f.payload.resize(n);
+    if (n > 0 && !recv_all(f.payload.data(), n)) return std::nullopt;
+    return f;
+  }
+
+  void send_all(const std::string& s) {
+    for (std::size_t done = 0; done < s.size();) {
+      const ssize_t k = ::send(fd_, s.data() + done, s.size() - done, MSG_NOSIGNAL);
+      if (k <= 0) return;
+      done += static_cast<std::size_t>(k);
+    }
+  }
+  bool recv_all(void* p, std::size_t n) {
+    auto* c = static_cast<char*>(p);
+    for (std::size_t done = 0; done < n;) {
+      const ssize_t k = ::recv(fd_, c + done, n - done, 0);
+      if (k <= 0) return false;
+      done += static_cast<std::size_t>(k);
+    }
+    return true;
+  }
+  int fd_ = -1;
+};
+
+/// The close code of a close frame.
+int close_code(const WsClient::Frame& f) {
+  if (f.opcode != 8 || f.payload.size() < 2) return -1;
+  return (static_cast<unsigned char>(f.payload[0]) << 8) | static_cast<unsigned char>(f.payload[1]);
+}
+
+TEST(LiveChannel, AnswersLikePostApiFitOverAWebSocket) {
+  ServerOptions opt;
+  opt.max_body_bytes = 100000;
+  LiveServer server(opt);
+  ASSERT_GT(server.port(), 0);
+  // The page learns the channel's port from GET /api/live.
+  auto where = server.client().Get("/api/live");
+  ASSERT_TRUE(where);
+  EXPECT_EQ(where->status, 200);
+  const json info = json::parse(where->body);
+  ASSERT_GT(server.live_port(), 0);
+  EXPECT_EQ(info.at("port"), server.live_port());
+  EXPECT_EQ(info.at("path"), "/api/live");
+  EXPECT_NE(server.live_port(), server.port());
+
+  WsClient ws;
+  const std::string head =
+      ws.open(server.live_port(), "/api/live",
+              "Origin: http://127.0.0.1:" + std::to_string(server.port()) + "\r\n");
+  ASSERT_TRUE(head.starts_with("HTTP/1.1 101")) << head;
+  // RFC 6455 section 1.3: the accept value of this key.
+  EXPECT_NE(head.find("Sec-WebSocket-Accept: s3pPLMBiTxaQ9kYGzzhZRbK+xOo="), std::string::npos)
+      << head;
+  // Several fits on one connection, answered in order, each exactly the HTTP answer's body.
+  const std::string bodies[] = {
+      R"({"points": [[0,0],[1,1],[2,0],[3,1]]})",
+      R"({"points": [[0,0],[1,2],[3,0]], "method": "li-strain"})",
+      json{{"points",
+            [] {
+              json p = json::array();
+              for (const Point& q : testing::random_walk(300, 3)) p.push_back({q.x, q.y});
+              return p;
+            }()}}
+          .dump(),  // an answer of more than 64 kB: a frame with a 64-bit length
+      "{",
+  };
+  for (const std::string& body : bodies) ws.send(1, body);
+  for (const std::string& body : bodies) {
+    const auto frame = ws.read();
+    ASSERT_TRUE(frame);
+    EXPECT_EQ(frame->opcode, 1);  // text
+    const json reply = json::parse(frame->payload);
+    const ApiResponse expected = handle_fit(body, opt);
+    EXPECT_EQ(reply.at("status"), expected.status) << body.substr(0, 80);
+    EXPECT_GE(reply.at("ms").get<double>(), 0.0);
+    EXPECT_EQ(reply.at("answer"), json::parse(expected.body)) << body.substr(0, 80);
+  }
+  // A message above the server's body limit closes the connection with 1009 (too big).
+  ws.send(1, std::string(opt.max_body_bytes + 1, ' '));
+  const auto too_big = ws.read();
+  ASSERT_TRUE(too_big);
+  EXPECT_EQ(close_code(*too_big), 1009);
+
+  // A binary message closes it with 1003 (data it cannot accept).
+  WsClient binary;
+  ASSERT_TRUE(binary.open(server.live_port()).starts_with("HTTP/1.1 101"));
+  binary.send(2, R"({"points": [[0,0],[1,1],[2,0]]})");
+  const auto refused = binary.read();
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(close_code(*refused), 1003);
+}
+
+TEST(LiveChannel, RefusesOtherPagesPathsAndPlainRequests) {
+  LiveServer server{ServerOptions{}};
+  ASSERT_GT(server.live_port(), 0);
+  WsClient other_site;
+  const std::string forbidden =
+      other_site.open(server.live_port(), "/api/live", "Origin: http://evil.example\r\n");
+  EXPECT_TRUE(forbidden.starts_with("HTTP/1.1 403")) << forbidden;
+  WsClient wrong_path;
+  EXPECT_TRUE(wrong_path.open(server.live_port(), "/api/fit").starts_with("HTTP/1.1 404"));
+  WsClient plain;
+  EXPECT_TRUE(plain.open(server.live_port(), "/api/live", "", false).starts_with("HTTP/1.1 426"));
+}
+
+TEST(LiveChannel, StopClosesOpenConnectionsAndAFitInFlightIsAnswered) {
+  ServerOptions opt;
+  opt.fit_time_limit_ms = 60000;
+  LiveServer server(opt);
+  ASSERT_GT(server.live_port(), 0);
+  WsClient idle;  // connected and silent: its thread waits in a read
+  ASSERT_TRUE(idle.open(server.live_port()).starts_with("HTTP/1.1 101"));
+  WsClient busy;
+  ASSERT_TRUE(busy.open(server.live_port()).starts_with("HTTP/1.1 101"));
+  busy.send(1, slow_request());
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the fit has started
+  const auto start = std::chrono::steady_clock::now();
+  server.stop();
+  // stop() returned after the threads were joined: the silent connection is closed, and the fit
+  // that was running was answered or its connection closed (never a hang).
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
+  EXPECT_FALSE(idle.read());
+  for (auto frame = busy.read(); frame; frame = busy.read()) {
+    if (frame->opcode == 1) {
+      EXPECT_EQ(json::parse(frame->payload).at("status"), 200);
+    }
   }
 }
 
