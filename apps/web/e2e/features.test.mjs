@@ -3,7 +3,7 @@
 // comb, 500 points, 50 points with 4 ensemble entries), in headless Debian chromium. Screenshots
 // go to FAIRSPLINE_E2E_OUT.
 import { loadavg } from 'node:os';
-import { check, eventually, hashOf, out, run, trackFits, waitForPieces } from './harness.mjs';
+import { check, eventually, hashOf, out, run, section, trackFits, waitForPieces } from './harness.mjs';
 
 const FIVE = [[150, 200], [300, 450], [500, 300], [700, 500], [850, 250]];
 
@@ -274,6 +274,7 @@ await run(async ({ page, url }) => {
     let y = box.y + box.height / 2;
     await page.mouse.move(x, y);
     const rows = [];
+    const texts = [];
     for (let k = 0; k < 22; k++) {
       // The point follows the pointer: the next drag starts where this one ends.
       const seen = await page.evaluate(() => window.fitFrames.length);
@@ -286,18 +287,47 @@ await run(async ({ page, url }) => {
       }), seen);
       await page.mouse.up();
       const row = ['fit', 'round trip', 'draw', 'edit to screen', 'main curve'].map((name) => field(text, name));
-      if (k >= 2) rows.push([...row, frame]);
+      if (k >= 2) {
+        rows.push([...row, frame]);
+        texts.push(text);
+      }
     }
     const col = (i) => med(rows.map((r) => r[i]));
     const f1 = (v) => (Number.isFinite(v) ? v.toFixed(1) : '—');
     check(rows.every((r) => r.slice(0, 4).every(Number.isFinite)) && (!c.state.e || rows.every((r) => Number.isFinite(r[4]))),
       `${c.name}: the report line shows the fit's times`);
+    check(texts.every((t) => t.includes('(live channel)')), `${c.name}: every drag's fit went over the live channel`);
     console.log(`info: drag latency, ${c.name}, median of ${rows.length} drags (ms): fit ${f1(col(0))}, round trip ${f1(col(1))}, `
       + `draw ${f1(col(2))}, edit to screen ${f1(col(3))}${c.state.e ? ` (main curve ${f1(col(4))})` : ''}, frame ${f1(col(5))}; `
       + `bare round trip ${f1(bare)}; load ${loadavg().map((v) => v.toFixed(2)).join(' ')}`);
   }
 
   console.log(`info: the latency cases took ${((Date.now() - latencyStart) / 1000).toFixed(1)} s`);
+
+  // ---- without the live channel (an older server, a proxy that passes no WebSocket) ----
+  await section('fits over HTTP without the live channel', async () => {
+    await page.route('**/api/live', (route) => route.fulfill({ json: { port: null, path: '/api/live' } }));
+    await page.goto('about:blank');
+    const pts = curvePoints(20);
+    await page.goto(url + hashOf({ p: pts, m: 'quasi-elastic' }));
+    await waitForPieces(page, 'quasi-elastic', 19);
+    const before = await page.locator('[data-testid="curve-quasi-elastic"]').getAttribute('d');
+    const box = await page.locator('[data-testid="point-10"]').boundingBox();
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    await page.mouse.down();
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2 - 30, { steps: 3 });
+    await page.mouse.up();
+    const after = await eventually(async () => {
+      const d = await page.locator('[data-testid="curve-quasi-elastic"]').getAttribute('d');
+      return d !== before && d;
+    });
+    check(!!after, 'without the live channel a drag refits over POST /api/fit');
+    const text = await page.locator('[data-testid="report"]').textContent();
+    check(/round trip [\d.]+ ms,/.test(text) && !text.includes('live channel'), `the report line says no live channel (${text})`);
+    const moved = await page.locator('[data-testid="point-10"]').boundingBox();
+    check(Math.abs(moved.y - (box.y - 30)) < 2, 'the dragged point is drawn where the pointer left it');
+    await page.unroute('**/api/live');
+  });
 
   // ---- the server's fit time of every method at 200 points ----
   const wave = Array.from({ length: 200 }, (_, i) => [50 + 4.5 * i, 350 + 200 * Math.sin(i / 12) + 40 * Math.sin(i / 3.7)]);

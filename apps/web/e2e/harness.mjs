@@ -101,16 +101,31 @@ export async function eventually(probe, ms = 5000) {
 }
 
 /**
- * Watches the page's POST /api/fit requests: `requests` holds their bodies, `settled()` waits
- * until none is in flight and none was sent for 300 ms (10× the editor's debounce), so that
- * what is drawn is the fit of the current state. A navigation drops the requests of the page
- * it leaves: one cut off by it gets neither requestfinished nor requestfailed, and counting it
- * made every later settled() wait its full 10 s.
+ * Watches the page's fits, POST /api/fit requests and messages of the live channel (the
+ * WebSocket /api/live): `requests` holds their bodies, `settled()` waits until none is in
+ * flight and none was sent for 300 ms (10× the editor's debounce), so that what is drawn is the
+ * fit of the current state. A navigation drops the requests of the page it leaves: one cut off
+ * by it gets neither requestfinished nor requestfailed, and counting it made every later
+ * settled() wait its full 10 s.
  */
 export function trackFits(page) {
   const requests = [];
   const inFlight = new Set();
+  let liveInFlight = 0; // the channel answers its messages in order, one answer each
   let lastActivity = Date.now();
+  page.on('websocket', (ws) => {
+    if (!ws.url().endsWith('/api/live')) return;
+    ws.on('framesent', (f) => {
+      requests.push(JSON.parse(f.payload));
+      liveInFlight += 1;
+      lastActivity = Date.now();
+    });
+    ws.on('framereceived', () => {
+      liveInFlight = Math.max(0, liveInFlight - 1);
+      lastActivity = Date.now();
+    });
+    ws.on('close', () => { liveInFlight = 0; });
+  });
   const isFit = (r) => r.url().endsWith('/api/fit');
   page.on('request', (r) => {
     if (!isFit(r)) return;
@@ -124,7 +139,11 @@ export function trackFits(page) {
   };
   page.on('requestfinished', done);
   page.on('requestfailed', done);
-  page.on('framenavigated', (frame) => { if (frame === page.mainFrame()) inFlight.clear(); });
-  const settled = () => eventually(() => inFlight.size === 0 && Date.now() - lastActivity > 300, 10000);
+  page.on('framenavigated', (frame) => {
+    if (frame !== page.mainFrame()) return;
+    inFlight.clear();
+    liveInFlight = 0;
+  });
+  const settled = () => eventually(() => inFlight.size === 0 && liveInFlight === 0 && Date.now() - lastActivity > 300, 10000);
   return { requests, settled };
 }

@@ -1157,11 +1157,69 @@ function requestBody(method, options, c = state) {
   return body;
 }
 
-/** POST /api/fit of a request body: {fit, ms} or {error, ms}, and `key`, the body's text (what
- * the answer is the fit of). */
+// The live channel: the same fits over a WebSocket (`GET /api/live` names its port). In
+// headless chromium a fetch round trip costs 5–17 ms on loopback and a WebSocket message 1–1.5
+// ms, so the selected curve's fits, one per pointer move of a drag, go this way. Answers come
+// in the order of the messages. Without the channel (an older server, a proxy, a closed
+// connection) fits go over POST /api/fit, and the channel is opened again at most every 5 s.
+const live = { socket: null, opening: null, waiting: [], retryAt: 0 };
+
+function openLive() {
+  if (live.socket || live.opening || performance.now() < live.retryAt) return;
+  live.opening = (async () => {
+    try {
+      const info = await (await fetch('/api/live')).json();
+      if (!info?.port) return;
+      const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
+      const socket = new WebSocket(`${scheme}://${location.hostname}:${info.port}${info.path}`);
+      await new Promise((resolve, reject) => {
+        socket.onopen = resolve;
+        socket.onerror = () => reject(new Error('live channel refused'));
+      });
+      socket.onmessage = (event) => live.waiting.shift()?.resolve(event.data);
+      socket.onclose = () => {
+        if (live.socket === socket) live.socket = null;
+        live.retryAt = performance.now() + 5000;
+        for (const w of live.waiting.splice(0)) w.reject(new Error('live channel closed'));
+      };
+      live.socket = socket;
+    } catch {
+      live.retryAt = performance.now() + 5000;
+    } finally {
+      live.opening = null;
+    }
+  })();
+}
+
+/** The answer of a live-channel message: {status, ms, answer}; throws when the channel closes. */
+function liveFit(text) {
+  return new Promise((resolve, reject) => {
+    live.waiting.push({ resolve: (data) => resolve(JSON.parse(data)), reject });
+    live.socket.send(text);
+  });
+}
+
+/** The result of postBody from a status, the answer's JSON and the timings. */
+function fitOutcome(status, data, ms, key) {
+  if (status === 200 && data) return { fit: data, ms, key };
+  return { ms, key, error: data?.error ?? { code: `http_${status}`, message: `HTTP ${status}`, index: null } };
+}
+
+/** The fit of a request body, over the live channel when it is open, else POST /api/fit: {fit,
+ * ms} or {error, ms}, and `key`, the body's text (what the answer is the fit of). */
 async function postBody(body) {
   const key = JSON.stringify(body);
   const started = performance.now();
+  if (live.socket?.readyState === WebSocket.OPEN) {
+    try {
+      const reply = await liveFit(key);
+      return fitOutcome(reply.status, reply.answer, { server: reply.ms, roundTrip: performance.now() - started, via: 'live' }, key);
+    } catch {
+      // Closed meanwhile: this fit goes over HTTP.
+    }
+  } else {
+    openLive();
+  }
   try {
     const res = await fetch('/api/fit', {
       method: 'POST',
@@ -1170,9 +1228,8 @@ async function postBody(body) {
     });
     const data = await res.json().catch(() => null);
     const timing = /dur=([0-9.]+)/.exec(res.headers.get('Server-Timing') ?? '');
-    const ms = { server: timing ? Number(timing[1]) : null, roundTrip: performance.now() - started };
-    if (res.ok && data) return { fit: data, ms, key };
-    return { ms, key, error: data?.error ?? { code: `http_${res.status}`, message: `HTTP ${res.status}`, index: null } };
+    const ms = { server: timing ? Number(timing[1]) : null, roundTrip: performance.now() - started, via: 'http' };
+    return fitOutcome(res.status, data, ms, key);
   } catch (e) {
     return { key, error: { code: 'network', message: `cannot reach the server: ${e.message}`, index: null } };
   }
@@ -1265,6 +1322,7 @@ async function runFit() {
     }
     await othersDone;
     const drawStart = performance.now();
+    drawDeferredPoints();
     render();
     lastDrawMs = performance.now() - drawStart;
     if (since != null) lastLatencyMs = performance.now() - since;
@@ -1279,6 +1337,7 @@ async function runFit() {
 /** The main curve and its comb of a successful fit, before the ensemble's fits are back (the
  * rest is drawn by render() when they are). */
 function drawMainEarly(main, since) {
+  drawDeferredPoints();
   mainFit = main.fit;
   mainFitKey = main.key;
   mainStale = false;
@@ -1291,11 +1350,32 @@ function drawMainEarly(main, since) {
   return since == null ? null : performance.now() - since;
 }
 
-/** Any change of the data: redraw the points now, save the hash, refit soon. */
-function changed() {
-  editSince ??= performance.now();
+// During a drag over the live channel the moved points are drawn with the fit of their new
+// position (its answer is usually back within 2–5 ms), at the latest after POINTS_WAIT_MS: points
+// drawn at once made the browser render that frame (style, layout, paint) before it could take
+// the answer, and that frame took 10–20 ms of the round trip on two cores.
+const POINTS_WAIT_MS = 30;
+let pointsDeferred = null; // the fallback timer while the points wait for their fit
+
+function drawDeferredPoints() {
+  if (pointsDeferred == null) return;
+  clearTimeout(pointsDeferred);
+  pointsDeferred = null;
   renderPoints();
   renderSelection();
+}
+
+/** Any change of the data: redraw the points now (or with the fit, during a drag over the live
+ * channel), save the hash, refit soon. */
+function changed() {
+  editSince ??= performance.now();
+  if (drag && live.socket) {
+    pointsDeferred ??= setTimeout(drawDeferredPoints, POINTS_WAIT_MS);
+  } else {
+    drawDeferredPoints();
+    renderPoints();
+    renderSelection();
+  }
   saveHashSoon();
   requestFit();
 }
@@ -1917,7 +1997,7 @@ function renderReport() {
   const r = mainFit?.report;
   const ms = (v) => (v == null ? '?' : Number(v.toPrecision(2)).toString());
   const timing = mainTiming
-    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms${lastMainLatencyMs == null ? '' : ` (main curve ${ms(lastMainLatencyMs)} ms)`}`
+    ? ` · fit ${ms(mainTiming.server)} ms, round trip ${ms(mainTiming.roundTrip)} ms${mainTiming.via === 'live' ? ' (live channel)' : ''}, draw ${ms(lastDrawMs)} ms, edit to screen ${ms(lastLatencyMs)} ms${lastMainLatencyMs == null ? '' : ` (main curve ${ms(lastMainLatencyMs)} ms)`}`
     : '';
   const balls = mainFit?.method_report?.balls;
   const ballText = balls ? ` · data balls ${balls.active.length} of ${balls.count} on their circle (${balls.status})` : '';
@@ -2948,6 +3028,7 @@ async function start() {
   try {
     const res = await fetch('/api/methods');
     schema = await res.json();
+    openLive();
   } catch (e) {
     el.errorText.textContent = `cannot load /api/methods: ${e.message}`;
     el.error.hidden = false;
