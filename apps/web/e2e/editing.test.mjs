@@ -89,6 +89,16 @@ await run(async ({ page, url }) => {
     const ca = armsAt(cf, 1);
     check(Math.abs(turn(ca.in, ca.out) - 20) < 1e-6, `the fitted curve turns by the corner angle at the node (${turn(ca.in, ca.out).toFixed(9)}°)`);
     check(await page.isChecked(sel('kind-smooth')) === false, 'a node with a corner angle is no kind (no kind radio checked)');
+    // The canvas shows the kept angle: a wedge from the fitted incoming to the outgoing direction.
+    const arc = await page.locator(sel('corner-angle-1')).evaluate((p) => ({ d: p.getAttribute('d'), title: p.textContent }));
+    const nums = arc.d.match(/-?[\d.]+(e-?\d+)?/g).map(Number);
+    const p1 = cf.points[1];
+    // M node L start A r,r 0 0 sweep end Z
+    check(Math.hypot(nums[0] - p1[0], nums[1] - p1[1]) < 1e-9, 'the wedge starts at the node');
+    const [s0, e0] = [[nums[2] - p1[0], nums[3] - p1[1]], [nums[9] - p1[0], nums[10] - p1[1]]];
+    check(Math.abs(turn(ca.in, s0)) < 1e-6 && Math.abs(turn(ca.out, e0)) < 1e-6 && Math.abs(Math.hypot(...s0) - Math.hypot(...e0)) < 1e-9,
+      `the corner's wedge runs from the fitted in to the out direction (${turn(ca.in, s0).toExponential(1)}°, ${turn(ca.out, e0).toExponential(1)}°)`);
+    check(arc.title.includes('keeps a corner of 20°'), `the wedge names the angle (${arc.title})`);
 
     // A node clamped on both sides: drag the incoming arrow apart from the outgoing one.
     await page.click(sel('point-3'));

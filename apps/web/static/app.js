@@ -1541,9 +1541,12 @@ function renderKinds() {
   // Only nodes with a ball, a clamped or free side draw here: a drag of a plain node, which is
   // most fits of a drag, leaves the layer as it is.
   const drawn = [];
+  // A regular node keeping a corner angle draws it between the fit's arms there.
+  const keepsCorner = (i) => state.corners[i] !== 0 && cornerApplies(i) && state.states[i][1] === 'regular';
   state.states.forEach(([a, b], i) => {
-    if ((state.radii[i] ?? 0) > 0 || a !== 'regular' || b !== 'regular') {
-      drawn.push([i, state.points[i], state.radii[i], a, b, nodeArrows(i), balls ? [mainFit.points?.[fitIndexOf(i)], onCircle.has(i)] : 0]);
+    if ((state.radii[i] ?? 0) > 0 || a !== 'regular' || b !== 'regular' || keepsCorner(i)) {
+      drawn.push([i, state.points[i], state.radii[i], a, b, nodeArrows(i), balls ? [mainFit.points?.[fitIndexOf(i)], onCircle.has(i)] : 0,
+        keepsCorner(i) && fitIndexOf(i) >= 0 ? [state.corners[i], currentArrow(i, 'in'), currentArrow(i, 'out')] : 0]);
     }
   });
   const inserted = fitIndexOf(0) >= 0 ? (mainFit.method_report?.inserted ?? []).map((k) => [k, mainFit.points[k]]) : [];
@@ -1589,6 +1592,7 @@ function renderKinds() {
       el.layerKinds.append(svg('rect', { x: x - h, y: y - h, width: 2 * h, height: 2 * h, class: both ? 'corner' : 'corner half',
         'data-testid': both ? `corner-${i}` : `free-${i}` }));
     }
+    if (keepsCorner(i) && fitIndexOf(i) >= 0) drawCornerAngle(i, x, y, u);
     const arrows = nodeArrows(i);
     const head = 10 * u;
     const arrow = (from, tip, dir, cls, testid, handleAttrs) => {
@@ -1617,6 +1621,24 @@ function renderKinds() {
       arrow([x, y], [x - dx, y - dy], arrows.in, 'tangent tangent-in', `tangent-in-${i}`, { 'data-handle-in': i, 'data-testid': `handle-in-${i}` });
     }
   });
+}
+
+/** The corner angle a regular node keeps: a wedge from the fit's incoming direction to its
+ * outgoing one (the sweep of the angle, |angle| < 180°). */
+function drawCornerAngle(i, x, y, u) {
+  const inn = currentArrow(i, 'in'), out = currentArrow(i, 'out');
+  const r = 7 * POINT_R_PX * u;
+  const at = (d) => { const len = Math.hypot(...d) || 1; return [x + (r * d[0]) / len, y + (r * d[1]) / len]; };
+  const [s, e] = [at(inn), at(out)];
+  const sweep = inn[0] * out[1] - inn[1] * out[0] > 0 ? 1 : 0;
+  // A wedge: the node, the incoming direction's ray, the arc, the outgoing direction's ray.
+  const arc = svg('path', {
+    d: `M${x},${y} L${s[0]},${s[1]} A${r},${r} 0 0 ${sweep} ${e[0]},${e[1]} Z`, class: 'corner-angle', 'data-testid': `corner-angle-${i}`,
+  });
+  const title = svg('title');
+  title.textContent = `point ${i} keeps a corner of ${fmt(state.corners[i])}°`;
+  arc.append(title);
+  el.layerKinds.append(arc);
 }
 
 /** A number for a panel field: exact for what was typed, 10 digits for what was computed. */
