@@ -64,6 +64,7 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s18-c10208.json",
     "kozak-krajnc-not_converged-s18-c10785.json",
     "kozak-krajnc-not_converged-s18-c131.json",
+    "kozak-krajnc-not_converged-s18-c370.json",
     "kozak-krajnc-not_converged-s18-c17687.json",
     "kozak-krajnc-not_converged-s18-c18.json",
     "kozak-krajnc-not_converged-s18-c19147.json",
@@ -136,6 +137,8 @@ const std::map<std::string, ErrorCode> kRefused = {
     // Three pieces: on no chain of the chain scan's cells can both curvature jumps vanish.
     {"kozak-krajnc-not_converged-s18-c131.json", ErrorCode::kInfeasible},
     {"kozak-krajnc-not_converged-s18-c10208.json", ErrorCode::kInfeasible},
+    // Six pieces (the scan covered at most five before): the chains end at T9.
+    {"kozak-krajnc-not_converged-s18-c370.json", ErrorCode::kInfeasible},
 };
 
 /// Empty when the saved request fits to a certified optimum (or is refused as kRefused says),
@@ -162,6 +165,31 @@ std::string failure_of(const std::string& file) {
   if (!k.checked) return "the optimum was not checked";
   if (!k.pass) return k.what;
   return {};
+}
+
+TEST(StressRegressionKozakKrajnc, TheChainScanTakesGivenDirectionsAsFixedLinks) {
+  // s18-c370 (six pieces, refused: the chains of cells end at T9) with the G1 spline's
+  // direction given at T15. The G2 condition is not asked at a given direction, so the chain
+  // starts afresh there; the part before it still ends at T9. Before given directions were
+  // taken into the scan, it did not run on such inputs and Newton's stall was the answer.
+  io::ParsedInput p =
+      io::parse_json_input(read_file(kDir + "/kozak-krajnc-not_converged-s18-c370.json"));
+  p.input.tangents.assign(p.input.points.size(), std::nullopt);
+  p.input.tangents[15] = Vec2{-9.189908944974661, -16.477345895752592};
+  try {
+    fit(*p.method, p.input, p.options);
+    FAIL() << "expected infeasible";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInfeasible) << e.what();
+    EXPECT_EQ(e.index(), std::optional<std::size_t>(9)) << e.what();
+    EXPECT_NE(std::string(e.what()).find("directions not given at T3..T15"), std::string::npos)
+        << e.what();
+  }
+  // The best effort keeps the given direction (the G1 spline through it).
+  const FitResult r = fit(*p.method, p.input, p.options, FitOptions{.best_effort = true});
+  const CubicBezier& after = r.spline.segments[15].bezier;
+  const Vec2 d = after.p[1] - after.p[0];
+  EXPECT_NEAR(std::atan2(d.y, d.x), std::atan2(-16.477345895752592, -9.189908944974661), 1e-12);
 }
 
 TEST_P(StressRegression, ConvergesToACertifiedOptimum) {

@@ -1240,8 +1240,8 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
 /// cell wide): (kChainCells + 2·kChainTail)² piece solves per inner piece.
 constexpr int kChainCells = 200;
 constexpr int kChainTail = 20;
-/// Above this many pieces the scan is not tried (it costs ~0.1 s per inner piece).
-constexpr std::size_t kChainMaxPieces = 5;
+/// Above this many pieces the scan is not tried: it costs ~0.1 s per piece (4 s at this bound).
+constexpr std::size_t kChainMaxPieces = 40;
 /// Newton starts taken from the chains of cells that pass the scan.
 constexpr std::size_t kChainStarts = 20;
 
@@ -1281,12 +1281,14 @@ std::vector<double> chain_nodes() {
 /// K[ℓ][c] = the curvatures at T3ℓ that a chain of cells from T0 reaches with ξℓ in cell c,
 /// every jump on the way able to vanish. No G2 spline if the last jump cannot vanish on any
 /// chain. Dynamic programming: (m − 2)·cells² branch ranges instead of cells^(m−1) boxes.
-ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
+ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi,
+                     const std::vector<char>& pinned) {
   ChainScan out;
   const std::size_t m = g.m;
   std::vector<std::vector<double>> X(m + 1, chain_nodes());
-  X[0] = {xi[0]};
-  X[m] = {xi[m]};
+  for (std::size_t l = 0; l <= m; ++l) {
+    if (pinned[l]) X[l] = {xi[l]};
+  }
   auto cells = [&](std::size_t l) { return X[l].size() == 1 ? std::size_t{1} : X[l].size() - 1; };
   auto scale = [&](std::size_t l) { return 0.5 * (norm(g.dT[3 * l - 1]) + norm(g.dT[3 * l])); };
   // Every solution of every piece at every node pair: (t1, t2, κ(0)·len, κ(1)·len).
@@ -1426,6 +1428,11 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
       }
       v.resize(n);
     }
+    if (pinned[l]) {  // a given direction: no jump is asked there, the chain starts afresh
+      for (std::vector<CurvatureRange>& v : K[l]) {
+        if (!v.empty()) v.assign(1, CurvatureRange{-kInf, kInf});
+      }
+    }
   }
   out.first_empty = m - 1;
   struct End {
@@ -1455,7 +1462,7 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi) {
     std::vector<ParameterPair> t(m + 1);
     x[0] = xi[0], x[m] = xi[m], t[m] = ends[e].t;
     for (std::size_t l = m - 1, c = ends[e].cell; l >= 1; --l) {
-      x[l] = 0.5 * (X[l][c] + X[l][c + 1]);
+      x[l] = X[l].size() == 1 ? X[l][0] : 0.5 * (X[l][c] + X[l][c + 1]);
       t[l] = parent[l][c].t;
       c = parent[l][c].cell;
     }
@@ -1537,14 +1544,23 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                   3);
     }
   }
-  bool inner_free = true;
-  for (std::size_t l = 1; l < m; ++l) inner_free = inner_free && !p.fixed[l];
-  if (!o.rep.converged && !o.rep.at_precision && m >= 3 && m <= kChainMaxPieces && inner_free) {
+  std::string scan_note;  // what the chain scan found, when it ran and did not settle (1.4)
+  std::vector<char> pinned(m + 1, 0);
+  std::size_t free_inner = 0;
+  for (std::size_t l = 0; l <= m; ++l) {
+    pinned[l] = l == 0 || l == m || p.fixed[l].has_value();
+    free_inner += pinned[l] ? 0 : 1;
+  }
+  if (!o.rep.converged && !o.rep.at_precision && m >= 3 && m <= kChainMaxPieces && free_inner > 0) {
     // Two or more unknowns: the chain scan either proves that (1.4) has no solution (up to its
     // grid's resolution) or gives Newton starts near every chain of cells where it may have one.
-    const ChainScan chain = chain_scan(g, d.xi);
-    std::vector<char> pinned(m + 1, 0);
-    pinned[0] = pinned[m] = 1;
+    const ChainScan chain = chain_scan(g, d.xi, pinned);
+    scan_note = chain.feasible ? "; the chain scan found " + std::to_string(chain.starts.size()) +
+                                     " chains of cells where a solution may lie, and Newton "
+                                     "from each stopped short of it"
+                               : "; the chain scan's grid is coarser than the set of "
+                                 "admissible directions around the G1 spline, so it proves "
+                                 "nothing";
     for (std::size_t s = 0; chain.feasible && !o.rep.at_cap && s < chain.starts.size(); ++s) {
       std::vector<double> x = chain.starts[s];
       std::vector<PieceFit> fit(m + 1);
@@ -1574,7 +1590,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       const std::size_t at = 3 * chain.first_empty;
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: no G2 spline for the end directions of the tangent rule: with "
-                  "the directions at " +
+                  "the directions not given at " +
                       pt(3) + ".." + pt(3 * (m - 1)) + " on a grid of " +
                       std::to_string(kChainCells) +
                       " cells each (finer towards the edges of their cones), no chain of cells "
@@ -1590,7 +1606,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                 "kozak-krajnc: the G2 Newton iteration on (1.4) stopped after " +
                     std::to_string(o.rep.iterations) + " iterations with scaled curvature jump " +
                     detail::format_number(o.rep.residual) + " (tolerance " +
-                    detail::format_number(kG2Tolerance) + "): " + o.rep.reason +
+                    detail::format_number(kG2Tolerance) + "): " + o.rep.reason + scan_note +
                     "; ask for a best effort to get the G1 spline instead");
   }
   return o;
