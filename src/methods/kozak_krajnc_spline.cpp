@@ -1273,6 +1273,21 @@ std::vector<double> chain_nodes() {
   return x;
 }
 
+/// The nodes of chain_nodes() and kChainTail·2 more halving towards `at` from either side, down
+/// to 2⁻⁴⁰ of a cell: where the admissible set around the G1 spline is narrower than a cell.
+std::vector<double> chain_nodes_around(double at) {
+  std::vector<double> x = chain_nodes();
+  const double h = 1.0 / kChainCells;
+  for (int k = 1; k <= 2 * kChainTail; ++k) {
+    for (const double v : {at - std::ldexp(h, -k), at + std::ldexp(h, -k)}) {
+      if (v > 0.0 && v < 1.0) x.push_back(v);
+    }
+  }
+  std::sort(x.begin(), x.end());
+  x.erase(std::unique(x.begin(), x.end()), x.end());
+  return x;
+}
+
 /// Whether (1.4) can hold at every interior breakpoint, decided on a grid of cells (ξ0, ξm
 /// and nothing else pinned). Jump ℓ is κℓ(1) − κℓ+1(0): piece ℓ's end curvature, a function
 /// of (ξℓ−1, ξℓ), against piece ℓ+1's start curvature, of (ξℓ, ξℓ+1) — a chain. Over a cell
@@ -1282,12 +1297,14 @@ std::vector<double> chain_nodes() {
 /// every jump on the way able to vanish. No G2 spline if the last jump cannot vanish on any
 /// chain. Dynamic programming: (m − 2)·cells² branch ranges instead of cells^(m−1) boxes.
 ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi,
-                     const std::vector<char>& pinned) {
+                     const std::vector<char>& pinned, bool refined) {
   ChainScan out;
   const std::size_t m = g.m;
-  std::vector<std::vector<double>> X(m + 1, chain_nodes());
+  std::vector<std::vector<double>> X(m + 1);
   for (std::size_t l = 0; l <= m; ++l) {
-    if (pinned[l]) X[l] = {xi[l]};
+    X[l] = pinned[l] ? std::vector<double>{xi[l]}
+           : refined ? chain_nodes_around(xi[l])
+                     : chain_nodes();
   }
   auto cells = [&](std::size_t l) { return X[l].size() == 1 ? std::size_t{1} : X[l].size() - 1; };
   auto scale = [&](std::size_t l) { return 0.5 * (norm(g.dT[3 * l - 1]) + norm(g.dT[3 * l])); };
@@ -1554,7 +1571,10 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
   if (!o.rep.converged && !o.rep.at_precision && m >= 3 && m <= kChainMaxPieces && free_inner > 0) {
     // Two or more unknowns: the chain scan either proves that (1.4) has no solution (up to its
     // grid's resolution) or gives Newton starts near every chain of cells where it may have one.
-    const ChainScan chain = chain_scan(g, d.xi, pinned);
+    ChainScan chain = chain_scan(g, d.xi, pinned, false);
+    // Unresolved: the grid again, with nodes converging on the G1 spline's directions.
+    const bool refined = !chain.feasible && !chain.resolved;
+    if (refined) chain = chain_scan(g, d.xi, pinned, true);
     scan_note = chain.feasible ? "; the chain scan found " + std::to_string(chain.starts.size()) +
                                      " chains of cells where a solution may lie, and Newton "
                                      "from each stopped short of it"
@@ -1593,9 +1613,10 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                   "the directions not given at " +
                       pt(3) + ".." + pt(3 * (m - 1)) + " on a grid of " +
                       std::to_string(kChainCells) +
-                      " cells each (finer towards the edges of their cones), no chain of cells "
-                      "from " +
-                      pt(0) + " lets the scaled curvature jumps vanish up to " + pt(at) +
+                      " cells each (finer towards the edges of their cones" +
+                      (refined ? " and towards the G1 spline's directions" : "") +
+                      "), no chain of cells from " + pt(0) +
+                      " lets the scaled curvature jumps vanish up to " + pt(at) +
                       " (each piece's end curvatures ranging over a cell as its corners "
                       "suggest); ask for a best effort to get the G1 spline instead",
                   at);
