@@ -1240,10 +1240,19 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
 /// cell wide): (kChainCells + 2·kChainTail)² piece solves per inner piece.
 constexpr int kChainCells = 200;
 constexpr int kChainTail = 20;
-/// Above this many pieces the scan is not tried: it costs ~0.1 s per piece (4 s at this bound).
-constexpr std::size_t kChainMaxPieces = 40;
+/// Above this many pieces the scan is not tried: it costs ~0.1 s per piece (1.6 s at this
+/// bound, up to 1 + kChainRefineBudget times that with the refinements).
+constexpr std::size_t kChainMaxPieces = 16;
 /// Newton starts taken from the chains of cells that pass the scan.
 constexpr std::size_t kChainStarts = 20;
+constexpr std::size_t kNoBudget = std::numeric_limits<std::size_t>::max();
+/// The refinements (towards the G1 directions, splitting passing chains' cells) may take this
+/// many times the piece solves of the first scan in all; a grid that needs more is not scanned.
+constexpr std::size_t kChainRefineBudget = 3;
+/// When Newton from every passing chain fails, the chains' cells are split into this many
+/// parts and the grid scanned again, at most kChainRounds times.
+constexpr int kChainSplit = 8;
+constexpr int kChainRounds = 3;
 
 /// A closed interval of scaled curvatures.
 struct CurvatureRange {
@@ -1261,6 +1270,10 @@ struct ChainScan {
   std::size_t first_empty = 0;  ///< when not feasible: the breakpoint where the chains end
   std::vector<std::vector<double>> starts;               ///< ξ at the centres of passing chains
   std::vector<std::vector<ParameterPair>> start_branch;  ///< per start and piece: (t1, t2)
+  /// Per start and breakpoint: the cell (lower and upper node) its ξ lies in.
+  std::vector<std::vector<std::pair<double, double>>> start_cells;
+  std::size_t solves = 0;  ///< piece solves of the grid (also when skipped)
+  bool skipped = false;    ///< the grid needs more solves than the budget: nothing was scanned
 };
 
 /// Nodes of one free breakpoint's grid on (0, 1) (see kChainCells).
@@ -1297,14 +1310,26 @@ std::vector<double> chain_nodes_around(double at) {
 /// every jump on the way able to vanish. No G2 spline if the last jump cannot vanish on any
 /// chain. Dynamic programming: (m − 2)·cells² branch ranges instead of cells^(m−1) boxes.
 ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi,
-                     const std::vector<char>& pinned, bool refined) {
+                     const std::vector<char>& pinned, bool refined,
+                     const std::vector<std::vector<double>>& extra, std::size_t budget) {
   ChainScan out;
   const std::size_t m = g.m;
   std::vector<std::vector<double>> X(m + 1);
   for (std::size_t l = 0; l <= m; ++l) {
-    X[l] = pinned[l] ? std::vector<double>{xi[l]}
-           : refined ? chain_nodes_around(xi[l])
-                     : chain_nodes();
+    if (pinned[l]) {
+      X[l] = {xi[l]};
+      continue;
+    }
+    X[l] = refined ? chain_nodes_around(xi[l]) : chain_nodes();
+    X[l].insert(X[l].end(), extra[l].begin(), extra[l].end());
+    std::sort(X[l].begin(), X[l].end());
+    X[l].erase(std::unique(X[l].begin(), X[l].end()), X[l].end());
+  }
+  for (std::size_t l = 1; l <= m; ++l) out.solves += X[l - 1].size() * X[l].size();
+  if (out.solves > budget) {
+    out.skipped = true;
+    out.resolved = false;
+    return out;
   }
   auto cells = [&](std::size_t l) { return X[l].size() == 1 ? std::size_t{1} : X[l].size() - 1; };
   auto scale = [&](std::size_t l) { return 0.5 * (norm(g.dT[3 * l - 1]) + norm(g.dT[3 * l])); };
@@ -1477,14 +1502,17 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi,
   for (std::size_t e = 0; e < std::min(ends.size(), kChainStarts); ++e) {
     std::vector<double> x(m + 1);
     std::vector<ParameterPair> t(m + 1);
+    std::vector<std::pair<double, double>> cell(m + 1, {0.0, 0.0});
     x[0] = xi[0], x[m] = xi[m], t[m] = ends[e].t;
     for (std::size_t l = m - 1, c = ends[e].cell; l >= 1; --l) {
       x[l] = X[l].size() == 1 ? X[l][0] : 0.5 * (X[l][c] + X[l][c + 1]);
+      if (X[l].size() > 1) cell[l] = {X[l][c], X[l][c + 1]};
       t[l] = parent[l][c].t;
       c = parent[l][c].cell;
     }
     out.starts.push_back(std::move(x));
     out.start_branch.push_back(std::move(t));
+    out.start_cells.push_back(std::move(cell));
   }
   return out;
 }
@@ -1571,41 +1599,70 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
   if (!o.rep.converged && !o.rep.at_precision && m >= 3 && m <= kChainMaxPieces && free_inner > 0) {
     // Two or more unknowns: the chain scan either proves that (1.4) has no solution (up to its
     // grid's resolution) or gives Newton starts near every chain of cells where it may have one.
-    ChainScan chain = chain_scan(g, d.xi, pinned, false);
+    std::vector<std::vector<double>> extra(m + 1);
+    ChainScan chain = chain_scan(g, d.xi, pinned, false, extra, kNoBudget);
+    // The finer grids below may take kChainRefineBudget times the first one's solves in all.
+    std::size_t budget = kChainRefineBudget * chain.solves;
+    const auto rescan = [&](bool finer) {
+      ChainScan next = chain_scan(g, d.xi, pinned, finer, extra, budget);
+      if (next.skipped) return false;
+      budget -= next.solves;
+      chain = std::move(next);
+      return true;
+    };
     // Unresolved: the grid again, with nodes converging on the G1 spline's directions.
-    const bool refined = !chain.feasible && !chain.resolved;
-    if (refined) chain = chain_scan(g, d.xi, pinned, true);
+    const bool refined = !chain.feasible && !chain.resolved && rescan(true);
+    // Passing chains whose starts all fail: their cells are split (kChainSplit parts) and the
+    // whole grid scanned again, at most kChainRounds times. Each scan covers all of (0, 1), so
+    // a scan where no chain passes is a claim at its own (finer) resolution.
+    int rounds = 0;
+    for (;; ++rounds) {
+      bool converged = false;
+      for (std::size_t s = 0; chain.feasible && !o.rep.at_cap && s < chain.starts.size(); ++s) {
+        std::vector<double> x = chain.starts[s];
+        std::vector<PieceFit> fit(m + 1);
+        bool ok = true;
+        G2Report attempt;
+        try {  // a start near a cone's edge can lead Newton onto a chord: (2.6) degenerates
+          for (std::size_t l = 1; l <= m && ok; ++l) {
+            PieceFit near;
+            near.s.t1 = chain.start_branch[s][l].t1, near.s.t2 = chain.start_branch[s][l].t2;
+            ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), &near,
+                             fit[l]);
+          }
+          if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
+        } catch (const Error&) {
+          ok = false;
+        }
+        if (ok && attempt.converged) {
+          d.xi = x;
+          pieces = std::move(fit);
+          d.in_xi = in_swept_sets(d.sw, d.xi);
+          o.rep = attempt;
+          o.start = "chain-scan";
+          converged = true;
+          break;
+        }
+      }
+      if (converged || !chain.feasible || o.rep.at_cap || rounds == kChainRounds) break;
+      const ChainScan passed = chain;
+      for (const auto& cells : passed.start_cells) {
+        for (std::size_t l = 1; l < m; ++l) {
+          const auto [lo, hi] = cells[l];
+          for (int k = 1; k < kChainSplit && hi > lo; ++k)
+            extra[l].push_back(lo + (hi - lo) * k / kChainSplit);
+        }
+      }
+      if (!rescan(refined)) break;
+    }
     scan_note = chain.feasible ? "; the chain scan found " + std::to_string(chain.starts.size()) +
-                                     " chains of cells where a solution may lie, and Newton "
-                                     "from each stopped short of it"
+                                     " chains of cells where a solution may lie (their cells "
+                                     "split " +
+                                     std::to_string(rounds) +
+                                     " times), and Newton from each stopped short of it"
                                : "; the chain scan's grid is coarser than the set of "
                                  "admissible directions around the G1 spline, so it proves "
                                  "nothing";
-    for (std::size_t s = 0; chain.feasible && !o.rep.at_cap && s < chain.starts.size(); ++s) {
-      std::vector<double> x = chain.starts[s];
-      std::vector<PieceFit> fit(m + 1);
-      bool ok = true;
-      G2Report attempt;
-      try {  // a start near a cone's edge can lead Newton onto a chord: (2.6) degenerates
-        for (std::size_t l = 1; l <= m && ok; ++l) {
-          PieceFit near;
-          near.s.t1 = chain.start_branch[s][l].t1, near.s.t2 = chain.start_branch[s][l].t2;
-          ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), &near,
-                           fit[l]);
-        }
-        if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
-      } catch (const Error&) {
-        ok = false;
-      }
-      if (ok && attempt.converged) {
-        d.xi = x;
-        pieces = std::move(fit);
-        d.in_xi = in_swept_sets(d.sw, d.xi);
-        o.rep = attempt;
-        o.start = "chain-scan";
-        break;
-      }
-    }
     if (!chain.feasible && chain.resolved && !options.best_effort) {
       const std::size_t at = 3 * chain.first_empty;
       throw Error(ErrorCode::kInfeasible,
@@ -1615,6 +1672,9 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                       std::to_string(kChainCells) +
                       " cells each (finer towards the edges of their cones" +
                       (refined ? " and towards the G1 spline's directions" : "") +
+                      (rounds > 0 ? ", cells of chains that passed coarser grids split " +
+                                        std::to_string(rounds) + " times"
+                                  : std::string()) +
                       "), no chain of cells from " + pt(0) +
                       " lets the scaled curvature jumps vanish up to " + pt(at) +
                       " (each piece's end curvatures ranging over a cell as its corners "
