@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -426,6 +427,27 @@ TEST(JsonNumbers, SameTextAsNlohmannDump) {
   EXPECT_EQ(mismatches, 0u);
 }
 
+// The digit generation writes p1's digits two at a time where Grisu2's loop divided by a
+// power of ten per digit: the same text on many more doubles than the test above.
+TEST(JsonNumbers, SameTextAsNlohmannDumpOnManyRandomDoubles) {
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> coordinate(-500.0, 500.0);
+  std::size_t mismatches = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double values[] = {
+        std::bit_cast<double>(rng()), coordinate(rng),
+        static_cast<double>(rng() % 1000000) / std::pow(10.0, static_cast<int>(rng() % 9)),
+        static_cast<double>(rng() >> (rng() % 64)) * 1000.0,  // trailing decimal zeros
+        std::ldexp(static_cast<double>(rng() >> 11), static_cast<int>(rng() % 200) - 100)};
+    for (const double x : values) {
+      if (json(x).dump() != formatted(x) && ++mismatches < 10) {
+        ADD_FAILURE() << json(x).dump() << " vs " << formatted(x);
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+}
+
 TEST(JsonNumbers, Layout) {
   EXPECT_EQ(formatted(0.0), "0.0");
   EXPECT_EQ(formatted(-0.0), "-0.0");
@@ -462,6 +484,32 @@ TEST(JsonWriter, SameBytesAsTheTreeDumped) {
     std::string appended = "prefix";
     write_json(r, appended);
     EXPECT_EQ(appended, "prefix" + text);
+  }
+}
+
+// The writer copies the text of a number it wrote recently (by its bits) instead of formatting
+// it again: repeats, evictions, 0.0 and -0.0, and the non-finite numbers still read as dump().
+TEST(JsonWriter, RepeatedNumbersAsDump) {
+  std::mt19937_64 rng(5);
+  std::vector<double> pool = {0.0,
+                              -0.0,
+                              std::numeric_limits<double>::quiet_NaN(),
+                              std::numeric_limits<double>::infinity(),
+                              5e-324,
+                              1e300};
+  while (pool.size() < 3000) pool.push_back(std::bit_cast<double>(rng()));
+  FitResult r;
+  std::string want = "\"knots\":[";
+  for (int i = 0; i < 50000; ++i) {
+    // Mostly a few recent values, sometimes any of the pool (evicting others).
+    const std::size_t k = rng() % 4 == 0 ? rng() % pool.size() : rng() % 8;
+    r.knots.push_back(pool[k]);
+    want += (i ? "," : "") + json(pool[k]).dump();
+  }
+  want += "]";
+  for (int pass = 0; pass < 2; ++pass) {  // the second with the memory of the first
+    const std::string text = write_json(r);
+    EXPECT_NE(text.find(want), std::string::npos);
   }
 }
 
