@@ -31,27 +31,30 @@ namespace {
 
 /// Writes JSON text into a string, compact or indented as dump(indent) does.
 ///
-/// The string is kept sized past what is written (pos_ is the end of the text) and written
+/// The string is kept sized past what is written (p_ is the end of the text) and written
 /// through a pointer: a number goes straight from the digit generator into it, where appending
 /// it, and each comma and bracket, cost a capacity check and call per character (a third of
 /// the writing time). The spare is cut off when the sink is destroyed.
 class TextSink {
  public:
-  TextSink(std::string& out, int indent) : out_(out), indent_(indent), pos_(out.size()) {}
+  TextSink(std::string& out, int indent)
+      : out_(out), indent_(indent), p_(out.data() + out.size()), end_(p_) {}
   /// Writes to `stream` whenever kFlushBytes are buffered (and at flush()): a long curve's text
   /// is never held whole (57 MB for 2·10^5 points), nor regrown and copied.
   TextSink(std::string& buffer, int indent, std::ostream& stream)
-      : out_(buffer), indent_(indent), stream_(&stream), pos_(0) {
+      : out_(buffer), indent_(indent), stream_(&stream) {
     out_.resize(kFlushBytes + 4096);
+    p_ = out_.data();
+    end_ = p_ + out_.size();
   }
   TextSink(const TextSink&) = delete;
   TextSink& operator=(const TextSink&) = delete;
-  ~TextSink() { out_.resize(stream_ ? 0 : pos_); }
+  ~TextSink() { out_.resize(stream_ ? 0 : used()); }
 
   void flush() {
     if (!stream_) return;
-    stream_->write(out_.data(), static_cast<std::streamsize>(pos_));
-    pos_ = 0;
+    stream_->write(out_.data(), static_cast<std::streamsize>(used()));
+    p_ = out_.data();
     if (!*stream_) throw Error(ErrorCode::kIoError, "error while writing the JSON text");
   }
 
@@ -81,23 +84,28 @@ class TextSink {
   }
   void number(double v) {
     before_value();
-    char* p = room(detail::kJsonNumberChars);
-    const auto bits = std::bit_cast<std::uint64_t>(v);
-    NumberMemo::Entry& e = memo_.slots[(bits * 0x9E3779B97F4A7C15u) >> (64 - NumberMemo::kBits)];
-    if (e.bits == bits) {
-      std::memcpy(p, e.text, sizeof e.text);
-      pos_ += e.size;
-    } else {
-      const char* end = detail::format_json_number(p, v);
-      const auto size = static_cast<std::size_t>(end - p);
-      if (size <= sizeof e.text) {
-        e.bits = bits;
-        e.size = static_cast<std::uint8_t>(size);
-        std::memcpy(e.text, p, sizeof e.text);
-      }
-      pos_ += size;
+    p_ = write_number(room(detail::kJsonNumberChars), v);
+    if (stream_ && used() >= kFlushBytes) flush();
+  }
+  /// [x, y]: compact, in one go (a fit is mostly pairs: points, control points, tangents).
+  void pair(Vec2 v) {
+    if (indent_ >= 0) {
+      begin_array();
+      number(v.x);
+      number(v.y);
+      end_array();
+      return;
     }
-    if (stream_ && pos_ >= kFlushBytes) flush();
+    before_value();
+    char* p = room(2 * detail::kJsonNumberChars + 3);
+    *p = '[';
+    p = write_number(p + 1, v.x);
+    *p = ',';
+    p = write_number(p + 1, v.y);
+    *p = ']';
+    p_ = p + 1;
+    first_ = false;
+    if (stream_ && used() >= kFlushBytes) flush();
   }
   void integer(std::int64_t v) { append_integer(v); }
   void unsigned_integer(std::uint64_t v) { append_integer(v); }
@@ -112,20 +120,49 @@ class TextSink {
   }
 
  private:
-  /// Room for n more characters at out_.data() + pos_.
-  char* room(std::size_t n) {
-    if (out_.size() - pos_ < n) {
-      out_.resize(std::max({2 * out_.size(), pos_ + n + 256, out_.capacity()}));
+  std::size_t used() const { return static_cast<std::size_t>(p_ - out_.data()); }
+
+  /// The text of v at p (which has room for kJsonNumberChars), from the memo or formatted;
+  /// returns its end.
+  char* write_number(char* p, double v) {
+    const auto bits = std::bit_cast<std::uint64_t>(v);
+    NumberMemo::Entry& e = memo_.slots[(bits * 0x9E3779B97F4A7C15u) >> (64 - NumberMemo::kBits)];
+    if (e.bits == bits) {
+      std::memcpy(p, e.text, sizeof e.text);
+      return p + e.size;
     }
-    return out_.data() + pos_;
+    char* end = detail::format_json_number(p, v);
+    const auto size = static_cast<std::size_t>(end - p);
+    if (size <= sizeof e.text) {
+      e.bits = bits;
+      e.size = static_cast<std::uint8_t>(size);
+      std::memcpy(e.text, p, sizeof e.text);
+    }
+    return end;
+  }
+
+  /// Room for n more characters at p_.
+  char* room(std::size_t n) {
+    if (static_cast<std::size_t>(end_ - p_) < n) grow(n);
+    return p_;
+  }
+  /// Sizes the string a chunk further (zero-filling only that, not the whole capacity a string
+  /// reused from record to record has), reallocating to twice the capacity when it is full.
+  [[gnu::noinline]] void grow(std::size_t n) {
+    constexpr std::size_t kChunk = 512;
+    const std::size_t at = used();
+    const std::size_t want = at + n + kChunk;
+    out_.resize(want <= out_.capacity() ? want : std::max(want, 2 * out_.capacity()));
+    p_ = out_.data() + at;
+    end_ = out_.data() + out_.size();
   }
   void put(char c) {
     *room(1) = c;
-    ++pos_;
+    ++p_;
   }
   void put(std::string_view s) {
     std::memcpy(room(s.size()), s.data(), s.size());
-    pos_ += s.size();
+    p_ += s.size();
   }
 
   template <class Int>
@@ -133,7 +170,7 @@ class TextSink {
     before_value();
     constexpr std::size_t kDigits = 24;
     char* p = room(kDigits);
-    pos_ = static_cast<std::size_t>(std::to_chars(p, p + kDigits, v).ptr - out_.data());
+    p_ = std::to_chars(p, p + kDigits, v).ptr;
   }
 
   /// Before a value: nothing after a key, else the separator of an array element.
@@ -172,7 +209,7 @@ class TextSink {
     char* p = room(spaces + 1);
     *p = '\n';
     std::memset(p + 1, ' ', spaces);
-    pos_ += spaces + 1;
+    p_ += spaces + 1;
   }
 
   /// A quoted string; one with anything but printable ASCII other than '"' and '\' goes through
@@ -188,7 +225,7 @@ class TextSink {
       *p = '"';
       std::memcpy(p + 1, s.data(), s.size());
       p[s.size() + 1] = '"';
-      pos_ += s.size() + 2;
+      p_ += s.size() + 2;
     } else {
       put(json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace));
     }
@@ -218,7 +255,8 @@ class TextSink {
   NumberMemo& memo_ = thread_memo();
   const int indent_;
   std::ostream* stream_ = nullptr;
-  std::size_t pos_;  ///< the end of the text in out_ (whose size is larger)
+  char* p_ = nullptr;    ///< the end of the text in out_
+  char* end_ = nullptr;  ///< the end of out_ (its size, past the text)
   int depth_ = 0;
   bool first_ = true;  ///< nothing written yet in the innermost open container
   bool after_key_ = false;
@@ -239,6 +277,12 @@ class SaxSink {
   }
   void null() { h_.null(); }
   void boolean(bool b) { h_.boolean(b); }
+  void pair(Vec2 v) {
+    begin_array();
+    number(v.x);
+    number(v.y);
+    end_array();
+  }
   void number(double v) {
     if (std::isfinite(v)) {
       h_.number_float(v, kNoText);
@@ -316,10 +360,7 @@ void emit_object_or_empty(Sink& s, const json& v) {
 
 template <class Sink>
 void emit_point(Sink& s, Vec2 p) {
-  s.begin_array();
-  s.number(p.x);
-  s.number(p.y);
-  s.end_array();
+  s.pair(p);
 }
 
 template <class Sink>
