@@ -63,16 +63,12 @@ class TextSink {
   void begin_array() { open('['); }
   void end_array() { close(']'); }
 
-  void key(std::string_view k) {
-    separate();
-    write_string(k);
-    if (indent_ < 0) {
-      put(':');
-    } else {
-      put(": ");
-    }
-    after_key_ = true;
+  /// A key spelled in this file: a literal of plain ASCII (nothing to escape, nothing to check).
+  template <std::size_t N>
+  void key(const char (&k)[N]) {
+    key(std::string_view(k, N - 1), true);
   }
+  void key(std::string_view k) { key(k, is_plain(k)); }
 
   void null() {
     before_value();
@@ -212,14 +208,36 @@ class TextSink {
     p_ += spaces + 1;
   }
 
-  /// A quoted string; one with anything but printable ASCII other than '"' and '\' goes through
-  /// dump() (its escapes, and invalid UTF-8 replaced by U+FFFD, never an exception).
-  void write_string(std::string_view s) {
-    bool plain = true;
+  static bool is_plain(std::string_view s) {
     for (const char c : s) {
       const auto u = static_cast<unsigned char>(c);
-      plain = plain && u >= 0x20 && u < 0x80 && c != '"' && c != '\\';
+      if (u < 0x20 || u >= 0x80 || c == '"' || c == '\\') return false;
     }
+    return true;
+  }
+
+  void key(std::string_view k, bool plain) {
+    if (indent_ < 0 && plain) {  // compact: ,"key": in one go
+      char* p = room(k.size() + 4);
+      if (!first_) *p++ = ',';
+      first_ = false;
+      *p = '"';
+      std::memcpy(p + 1, k.data(), k.size());
+      p[k.size() + 1] = '"';
+      p[k.size() + 2] = ':';
+      p_ = p + k.size() + 3;
+    } else {
+      separate();
+      write_string(k, plain);
+      put(indent_ < 0 ? std::string_view(":") : std::string_view(": "));
+    }
+    after_key_ = true;
+  }
+
+  /// A quoted string; one with anything but printable ASCII other than '"' and '\' goes through
+  /// dump() (its escapes, and invalid UTF-8 replaced by U+FFFD, never an exception).
+  void write_string(std::string_view s) { write_string(s, is_plain(s)); }
+  void write_string(std::string_view s, bool plain) {
     if (plain) {
       char* p = room(s.size() + 2);
       *p = '"';
@@ -506,13 +524,15 @@ class Members {
       : s_(s), next_(members(extra).begin()), end_(members(extra).end()) {}
 
   /// The key of the next member; the extra members before it are written first.
-  void key(std::string_view k) {
+  template <std::size_t N>
+  void key(const char (&key)[N]) {
+    const std::string_view k(key, N - 1);
     flush([&](const std::string& e) { return std::string_view(e) < k; });
     if (next_ != end_ && std::string_view(next_.key()) == k) {
       throw Error(ErrorCode::kInvalidArgument,
                   "write_json: extra member '" + next_.key() + "' is a field of the result");
     }
-    s_.key(k);
+    s_.key(key);
   }
 
   /// The extra members after the last key.
