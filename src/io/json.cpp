@@ -254,7 +254,7 @@ ParsedInput input_from_fields(const json& document, std::vector<Vec2>* points);
 /// Reads the common request straight from its text: an object (or a bare array of points)
 /// whose "points" are pairs of numbers, read into Vec2 as they are scanned, and whose other
 /// members are each parsed by nlohmann from their own text. For 2·10^5 points the DOM of
-/// "points" took 20% of `fairspline fit` (and a third of its memory), and of a 20-point batch
+/// "points" took 20% of the CPU time of `fairspline fit`, and of a 20-point batch
 /// line 30%, most of it building and freeing nodes and strtod.
 ///
 /// It gives up (nullopt) on anything else: invalid JSON, a point that is not [x, y] with two
