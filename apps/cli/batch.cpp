@@ -12,6 +12,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <climits>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -245,8 +247,22 @@ class Output {
 
   bool is_stdout() const { return file_ == stdout; }
 
-  void write(const std::string& text) {
-    if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) fail();
+  /// Writes `texts` in order straight from their strings, up to IOV_MAX at a time with
+  /// writev: fwrite copied every record into the stdio buffer first (~5% of a run's CPU).
+  void write_all(const std::vector<std::string>& texts) {
+    if (std::fflush(file_) != 0) fail();  // what fwrite buffered goes first
+    const int fd = ::fileno(file_);
+    std::vector<iovec> io;
+    io.reserve(std::min<std::size_t>(texts.size(), IOV_MAX));
+    for (std::size_t i = 0; i < texts.size();) {
+      io.clear();
+      for (; i < texts.size() && io.size() < IOV_MAX; ++i) {
+        if (!texts[i].empty()) {
+          io.push_back({const_cast<char*>(texts[i].data()), texts[i].size()});
+        }
+      }
+      write_vector(fd, io);
+    }
   }
 
   /// Hands what is buffered to the file or pipe.
@@ -264,6 +280,29 @@ class Output {
   }
 
  private:
+  /// All of io's bytes, through short writes and interruptions.
+  void write_vector(int fd, std::vector<iovec>& io) {
+    iovec* v = io.data();
+    std::size_t left = io.size();
+    while (left > 0) {
+      const ssize_t n = ::writev(fd, v, static_cast<int>(left));
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        fail();
+      }
+      auto done = static_cast<std::size_t>(n);
+      while (left > 0 && done >= v->iov_len) {
+        done -= v->iov_len;
+        ++v;
+        --left;
+      }
+      if (left > 0) {
+        v->iov_base = static_cast<char*>(v->iov_base) + done;
+        v->iov_len -= done;
+      }
+    }
+  }
+
   [[noreturn]] void fail() {
     throw Error(ErrorCode::kIoError,
                 "error while writing " + name_ + ": " + system_error_text(errno));
@@ -319,8 +358,8 @@ class BlockWriter {
       if (!pending_) return;
       lock.unlock();
       try {
+        output_.write_all(block_);
         for (std::string& r : block_) {
-          output_.write(r);
           if (r.capacity() > kKeepRecordCapacity) std::string().swap(r);  // after a huge one
         }
         if (flush_) output_.flush();

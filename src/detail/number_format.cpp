@@ -31,20 +31,26 @@ DiyFp sub(DiyFp x, DiyFp y) {
 
 /// x * y rounded to the upper 64 bits of the product (ties up).
 DiyFp mul(DiyFp x, DiyFp y) {
+#ifdef __SIZEOF_INT128__
+  // The same value as the four 32-bit products below (floor((x*y + 2^63) / 2^64)), in one
+  // multiplication.
+  __extension__ using Uint128 = unsigned __int128;
+  const Uint128 p = Uint128{x.f} * y.f + (Uint128{1} << 63u);
+  return {static_cast<std::uint64_t>(p >> 64u), x.e + y.e + 64};
+#else
   const std::uint64_t u_lo = x.f & 0xFFFFFFFFu, u_hi = x.f >> 32u;
   const std::uint64_t v_lo = y.f & 0xFFFFFFFFu, v_hi = y.f >> 32u;
   const std::uint64_t p0 = u_lo * v_lo, p1 = u_lo * v_hi, p2 = u_hi * v_lo, p3 = u_hi * v_hi;
   std::uint64_t q = (p0 >> 32u) + (p1 & 0xFFFFFFFFu) + (p2 & 0xFFFFFFFFu);
   q += std::uint64_t{1} << 31u;
   return {p3 + (p2 >> 32u) + (p1 >> 32u) + (q >> 32u), x.e + y.e + 64};
+#endif
 }
 
+/// x.f != 0 shifted until its top bit is set (one shift, not a loop over the bits).
 DiyFp normalize(DiyFp x) {
-  while ((x.f >> 63u) == 0) {
-    x.f <<= 1u;
-    --x.e;
-  }
-  return x;
+  const int s = std::countl_zero(x.f);
+  return {x.f << s, x.e - s};
 }
 
 DiyFp normalize_to(DiyFp x, int e) {
@@ -138,15 +144,30 @@ CachedPower cached_power_for_binary_exponent(int e) {
   return kPowers[static_cast<std::size_t>(index)];
 }
 
-/// For n != 0: k with pow10 = 10^(k-1) <= n < 10^k.
-int find_largest_pow10(std::uint32_t n, std::uint32_t& pow10) {
-  int k = 10;
-  pow10 = 1000000000;
-  while (k > 1 && n < pow10) {
-    pow10 /= 10;
-    --k;
-  }
+constexpr std::array<std::uint32_t, 10> kPow10 = {1,      10,      100,      1000,      10000,
+                                                  100000, 1000000, 10000000, 100000000, 1000000000};
+
+/// For n != 0: the number of its decimal digits (1 to 10).
+int decimal_digits(std::uint32_t n) {
+  int k = 1;
+  while (k < 10 && n >= kPow10[static_cast<std::size_t>(k)]) ++k;
   return k;
+}
+
+/// The `count` decimal digits of n (leading zeros included) at out, two at a time.
+void write_digits(char* out, std::uint32_t n, int count) {
+  static constexpr char kPairs[] =
+      "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+      "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+      "8081828384858687888990919293949596979899";
+  char* p = out + count;
+  while (p - out >= 2) {
+    const std::uint32_t r = n % 100;
+    n /= 100;
+    p -= 2;
+    std::memcpy(p, kPairs + 2 * r, 2);
+  }
+  if (p != out) *out = static_cast<char>('0' + n);
 }
 
 /// Decrements the last digit while that brings buf * 10^k closer to w.
@@ -169,22 +190,42 @@ void grisu2_digit_gen(char* buffer, int& length, int& decimal_exponent, DiyFp m_
   auto p1 = static_cast<std::uint32_t>(m_plus.f >> -one.e);
   std::uint64_t p2 = m_plus.f & (one.f - 1);
 
-  // The integral part p1, digit by digit, stopping as soon as the rest is within delta.
-  std::uint32_t pow10 = 0;
-  int n = find_largest_pow10(p1, pow10);
-  while (n > 0) {
-    const std::uint32_t d = p1 / pow10;
-    const std::uint32_t r = p1 % pow10;
-    buffer[length++] = static_cast<char>('0' + d);
-    p1 = r;
-    --n;
-    const std::uint64_t rest = (std::uint64_t{p1} << -one.e) + p2;
-    if (rest <= delta) {
-      decimal_exponent += n;
-      grisu2_round(buffer, length, dist, delta, rest, std::uint64_t{pow10} << -one.e);
+  // The integral part p1 (nonzero: m_plus is normalized and e >= -60), digit by digit until
+  // the rest is within delta. The interval is ~2^11 units wide and one is >= 2^32, so delta <
+  // one.f, and then a rest (p1's dropped digits * one + p2) is within delta only when the dropped
+  // digits are zeros and p2 <= delta: all the digits are written at once (two per division by a
+  // constant, where the loop divided by a variable power of ten per digit), and the stop is where
+  // p1's trailing zeros begin. The loop stays for delta >= one.f, which does not occur.
+  if (delta < one.f) {
+    const int n = decimal_digits(p1);
+    write_digits(buffer + length, p1, n);
+    if (p2 <= delta) {
+      int zeros = 0;
+      for (std::uint32_t q = p1; zeros + 1 < n && q % 10 == 0; q /= 10) ++zeros;
+      length += n - zeros;
+      decimal_exponent += zeros;
+      grisu2_round(buffer, length, dist, delta, p2,
+                   std::uint64_t{kPow10[static_cast<std::size_t>(zeros)]} << -one.e);
       return;
     }
-    pow10 /= 10;
+    length += n;
+  } else {
+    int n = decimal_digits(p1);
+    std::uint32_t pow10 = kPow10[static_cast<std::size_t>(n - 1)];
+    while (n > 0) {
+      const std::uint32_t d = p1 / pow10;
+      const std::uint32_t r = p1 % pow10;
+      buffer[length++] = static_cast<char>('0' + d);
+      p1 = r;
+      --n;
+      const std::uint64_t rest = (std::uint64_t{p1} << -one.e) + p2;
+      if (rest <= delta) {
+        decimal_exponent += n;
+        grisu2_round(buffer, length, dist, delta, rest, std::uint64_t{pow10} << -one.e);
+        return;
+      }
+      pow10 /= 10;
+    }
   }
 
   // The fractional part p2 * 2^e.
@@ -258,7 +299,7 @@ char* format_buffer(char* buf, int len, int decimal_exponent, int min_exp, int m
   }
   if (0 < n && n <= max_exp) {  // dig.its
     const auto un = static_cast<std::size_t>(n);
-    std::memmove(buf + un + 1, buf + un, uk - un);
+    for (std::size_t i = uk; i > un; --i) buf[i] = buf[i - 1];  // a few bytes: no memmove call
     buf[n] = '.';
     return buf + uk + 1;
   }

@@ -3,7 +3,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -12,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "detail/json_input.hpp"
 #include "detail/number_format.hpp"
 #include "test_util.hpp"
 
@@ -211,6 +214,166 @@ TEST(JsonInput, DeepNestingIsRejectedWithoutCrashing) {
   EXPECT_EQ(bare.code(), ErrorCode::kNonFinite);
   EXPECT_EQ(bare.index(), 1u);
   EXPECT_TRUE(starts_with(bare.what(), "[1][0]: number")) << bare.what();
+}
+
+// ------------------------------------------------------------------ the fast reader
+
+/// What a reader made of a text: the request as JSON (round-trip digits, so bit for bit, -0.0
+/// included), or the error's code, message and index.
+std::string outcome(const std::function<ParsedInput()>& read) {
+  try {
+    const ParsedInput p = read();
+    return input_to_json(p.input, p.accuracy).dump() + " alpha " + json(p.input.alpha).dump() +
+           " method " + (p.method ? *p.method : "-") + " options " + p.options.dump() +
+           " best_effort " + (p.best_effort ? (*p.best_effort ? "true" : "false") : "-");
+  } catch (const Error& e) {
+    return std::string("error ") + std::string(error_code_name(e.code())) + " " + e.what() +
+           " index " + (e.index() ? std::to_string(*e.index()) : "-");
+  }
+}
+
+void expect_same_as_dom(const std::string& text) {
+  EXPECT_EQ(outcome([&] { return parse_json_input(text); }),
+            outcome([&] { return detail::parse_json_input_dom(text); }))
+      << text;
+}
+
+TEST(JsonInput, FastReaderReadsWhatTheDocumentReaderReads) {
+  const char* numbers[] = {"0",
+                           "-0",
+                           "0.0",
+                           "-0.0",
+                           "1",
+                           "-1",
+                           "1e5",
+                           "1E+5",
+                           "1e-5",
+                           "-2.5E-3",
+                           "0.1",
+                           "1.5e-300",
+                           "5e-324",
+                           "4.9e-324",
+                           "1e-400",
+                           "1e999",
+                           "-1e999",
+                           "1.7976931348623157e308",
+                           "123456789012345678901234567890",
+                           "-9223372036854775809",
+                           "18446744073709551616",
+                           "9007199254740993",
+                           "190.18124141243771",
+                           "01",
+                           "1.",
+                           ".5",
+                           "+1",
+                           "1e",
+                           "-",
+                           "nan",
+                           "inf",
+                           "0x10",
+                           "1.5e+",
+                           "--1",
+                           "2.e3"};
+  for (const char* x : numbers) {
+    for (const char* y : {"2", "-0.0", "3.25e2"}) {
+      expect_same_as_dom(std::string("{\"points\": [[") + x + ", " + y + "], [" + y + "," + x +
+                         "]]}");
+      expect_same_as_dom(std::string("[[") + x + "," + y + "]]");
+    }
+  }
+  const std::string documents[] = {
+      R"({"points": []})",
+      R"({"points": [[0,0],[1,1]], "closed": true, "method": "li-strain"})",
+      " \t\r\n{ \"points\" : [ [ 0 , 0 ] ,\n[ 1 , 1 ] ] , \"closed\" : false } \n",
+      R"({"_note": {"a": [1, "]}\"", {"b": "}"}]}, "points": [[0,0],[1,2]], "$x": null})",
+      R"({"points": [[0,0],[1,2],[3,1]], "tangents": [null, [1, 0], null],
+          "kinds": ["smooth", "corner", "clamped"], "alpha": 1, "knots": [0, 1, 2.5],
+          "options": {"lambda": 0.5, "nested": {"deep": [1, [2, [3]]]}}, "accuracy": 1e-7,
+          "best_effort": true, "start_tangent": [1, 0], "end_tangent": null})",
+      R"({"points": [[0,0],[1,2]], "lambdas": [0, 0.5]})",
+      R"({"points": [[0,0]], "points": [[1,1]]})",  // repeated: the last, as nlohmann
+      R"({"closed": true, "closed": false, "points": [[0,0]]})",
+      R"({"p\u006fints": [[0,0]]})",                  // an escaped key: the DOM reads it
+      "\xEF\xBB\xBF{\"points\": [[0,0]]}",            // a byte-order mark
+      R"({"points": [[0,0],[1,1]]} x)",               // text after the document
+      R"({"points": [[0,0],[1,1]],})",                // a trailing comma
+      R"({"points": [[0,0],[1,1]] "closed": true})",  // a missing comma
+      R"({"points": [[0,0],[1,1]], "closed": tru})",
+      R"({"points": [[0,0],[1,1]], "options": {"a": [1}]})",
+      R"({"points": [[0,0],[1,1]], "options": "unterminated})",
+      R"({"points": [[0,0],[1,1]], "request": {}, "segments": []})",
+      R"({"points": [[0,0],[1,1]], "method": "\ud800"})",
+      R"({"points": [[0,0],[1,1]]})"
+      "\x01",
+      "{\"points\": [[0,0],[1,1]], \"method\": \"caf\xc3\xa9\"}",
+      "{\"points\": [[0,0],[1,1]], \"method\": \"\xff\"}",
+      R"({"points": [[0,0],[1, 1, 1]]})",
+      R"({"points": [[0,0],[1]]})",
+      R"({"points": [[0,0],[1,null]]})",
+      R"({"points": [[0,0],[1,1]]])",
+      R"({"points": [[0,0],[1,1]})",
+      R"({"points": [[0,0],[1,1])",
+      R"({"points": [[0,0],[1,1]], "options": )" + std::string(40, '[') + std::string(40, ']') +
+          "}",
+  };
+  for (const std::string& d : documents) expect_same_as_dom(d);
+
+  // -0 is nlohmann's integer 0; -0.0 keeps its sign.
+  const ParsedInput p = parse_json_input(R"({"points": [[-0, -0.0], [1e-5, 123456789012345678]]})");
+  EXPECT_FALSE(std::signbit(p.input.points[0].x));
+  EXPECT_TRUE(std::signbit(p.input.points[0].y));
+  EXPECT_EQ(p.input.points[1].x, 1e-5);
+  EXPECT_EQ(p.input.points[1].y, 123456789012345678.0);
+}
+
+TEST(JsonInput, FastReaderMalformedTextGivesTheSameErrors) {
+  // Every prefix and single-byte edit of a request: the fast reader and the DOM agree on the
+  // request or on the error's code, message (line and column) and index.
+  const std::string base =
+      "{\"points\": [[0.5, -1e-3],\n [2, 3E2], [-0, 4]],\n \"closed\": true, \"options\": "
+      "{\"a\": [1, \"x\"]}, \"_c\": \"]\\\"\"}";
+  for (std::size_t n = 0; n <= base.size(); ++n) expect_same_as_dom(base.substr(0, n));
+  const char edits[] = {'[', ']', '{', '}', ',', ':', '"', '-', '.', 'e', '0', ' ', '\n', 'x'};
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    std::string removed = base;
+    removed.erase(i, 1);
+    expect_same_as_dom(removed);
+    for (const char c : edits) {
+      std::string replaced = base;
+      replaced[i] = c;
+      expect_same_as_dom(replaced);
+    }
+  }
+  const Error e = expect_error([] { parse_json_input("{\"points\": [[0, 0],\n  [1, 2,]]}"); });
+  EXPECT_EQ(e.code(), ErrorCode::kParseError);
+  EXPECT_EQ(e.index(), 2u);
+  EXPECT_TRUE(starts_with(e.what(), "invalid JSON at line 2, column 9 (byte 29)")) << e.what();
+}
+
+TEST(JsonInput, FastReaderLongRandomRequests) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coordinate(-1e6, 1e6);
+  for (int round = 0; round < 20; ++round) {
+    std::string text = "{\"points\": [";
+    std::vector<Point> want;
+    for (int i = 0; i < 2000; ++i) {
+      const double x = round % 2 ? coordinate(rng) : std::bit_cast<double>(rng());
+      const double y = std::ldexp(coordinate(rng), static_cast<int>(rng() % 600) - 300);
+      if (!std::isfinite(x)) continue;
+      want.push_back({x, y});
+      char buf[80];
+      std::snprintf(buf, sizeof buf, "%s[%.17g,%.*e]", want.size() > 1 ? ", " : "", x,
+                    static_cast<int>(rng() % 20), y);
+      text += buf;
+    }
+    text += "]}";
+    const ParsedInput fast = parse_json_input(text);
+    ASSERT_EQ(fast.input.points.size(), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(fast.input.points[i].x, want[i].x) << i;
+    }
+    expect_same_as_dom(text);
+  }
 }
 
 // ------------------------------------------------------------------ output
@@ -426,6 +589,27 @@ TEST(JsonNumbers, SameTextAsNlohmannDump) {
   EXPECT_EQ(mismatches, 0u);
 }
 
+// The digit generation writes p1's digits two at a time where Grisu2's loop divided by a
+// power of ten per digit: the same text on many more doubles than the test above.
+TEST(JsonNumbers, SameTextAsNlohmannDumpOnManyRandomDoubles) {
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> coordinate(-500.0, 500.0);
+  std::size_t mismatches = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double values[] = {
+        std::bit_cast<double>(rng()), coordinate(rng),
+        static_cast<double>(rng() % 1000000) / std::pow(10.0, static_cast<int>(rng() % 9)),
+        static_cast<double>(rng() >> (rng() % 64)) * 1000.0,  // trailing decimal zeros
+        std::ldexp(static_cast<double>(rng() >> 11), static_cast<int>(rng() % 200) - 100)};
+    for (const double x : values) {
+      if (json(x).dump() != formatted(x) && ++mismatches < 10) {
+        ADD_FAILURE() << json(x).dump() << " vs " << formatted(x);
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+}
+
 TEST(JsonNumbers, Layout) {
   EXPECT_EQ(formatted(0.0), "0.0");
   EXPECT_EQ(formatted(-0.0), "-0.0");
@@ -462,6 +646,32 @@ TEST(JsonWriter, SameBytesAsTheTreeDumped) {
     std::string appended = "prefix";
     write_json(r, appended);
     EXPECT_EQ(appended, "prefix" + text);
+  }
+}
+
+// The writer copies the text of a number it wrote recently (by its bits) instead of formatting
+// it again: repeats, evictions, 0.0 and -0.0, and the non-finite numbers still read as dump().
+TEST(JsonWriter, RepeatedNumbersAsDump) {
+  std::mt19937_64 rng(5);
+  std::vector<double> pool = {0.0,
+                              -0.0,
+                              std::numeric_limits<double>::quiet_NaN(),
+                              std::numeric_limits<double>::infinity(),
+                              5e-324,
+                              1e300};
+  while (pool.size() < 3000) pool.push_back(std::bit_cast<double>(rng()));
+  FitResult r;
+  std::string want = "\"knots\":[";
+  for (int i = 0; i < 50000; ++i) {
+    // Mostly a few recent values, sometimes any of the pool (evicting others).
+    const std::size_t k = rng() % 4 == 0 ? rng() % pool.size() : rng() % 8;
+    r.knots.push_back(pool[k]);
+    want += (i ? "," : "") + json(pool[k]).dump();
+  }
+  want += "]";
+  for (int pass = 0; pass < 2; ++pass) {  // the second with the memory of the first
+    const std::string text = write_json(r);
+    EXPECT_NE(text.find(want), std::string::npos);
   }
 }
 
