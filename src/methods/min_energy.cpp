@@ -264,11 +264,7 @@ inline bool psd_block(double& a, double& b, double& c) {
 /// sin and cos of an angle offset. The offsets stay within ±Ω ≤ ±π/2 (the feasible boxes), where
 /// the Taylor series to degree 21/22 is exact to rounding ((π/2)^23/23! < 2e-18) and, unlike a
 /// libm call, vectorizes across nodes; other angles take the libm path.
-inline void sincos_small(double x, double& sn, double& cn) {
-  if (!(std::abs(x) <= 1.6)) {
-    ::sincos(x, &sn, &cn);
-    return;
-  }
+inline void sincos_poly(double x, double& sn, double& cn) {
   const double z = x * x;
   // sin x = x Σ (−z)^k / (2k+1)!, cos x = Σ (−z)^k / (2k)!, k = 0..10 / 0..11 (Horner).
   double ps = 1.0 / 51090942171709440000.0;     // +1/21!
@@ -298,6 +294,25 @@ inline void sincos_small(double x, double& sn, double& cn) {
   for (int j = 20; j >= 0; j -= 2) pc = pc * z + ((j / 2) % 2 == 0 ? 1.0 : -1.0) * kInvFact[j];
   sn = x * ps;
   cn = pc;
+}
+
+inline void sincos_small(double x, double& sn, double& cn) {
+  if (!(std::abs(x) <= 1.6)) {
+    ::sincos(x, &sn, &cn);
+    return;
+  }
+  sincos_poly(x, sn, cn);
+}
+
+/// cos and sin of every x[i] into cs[2i], cs[2i+1]: the polynomial over all entries in a
+/// branch-free loop (the compiler vectorizes it; the branch of sincos_small kept it scalar, 13%
+/// of a fit), then libm for the rare entries outside its range. Same values as sincos_small.
+void sincos_all(std::span<const double> x, double* cs) {
+  const std::size_t k = x.size();
+  for (std::size_t i = 0; i < k; ++i) sincos_poly(x[i], cs[2 * i + 1], cs[2 * i]);
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!(std::abs(x[i]) <= 1.6)) ::sincos(x[i], &cs[2 * i + 1], &cs[2 * i]);
+  }
 }
 
 /// Energy (and, with kDerivatives, gradient and tridiagonal Hessian; with kProjected also
@@ -382,7 +397,7 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
   }
   const std::size_t k = ch.node.size();
   cs.resize(2 * k);
-  for (std::size_t i = 0; i < k; ++i) sincos_small(x[i], cs[2 * i + 1], cs[2 * i]);
+  sincos_all(x, cs.begin());
   // α = x_i + a_i, β = x_j + b_j by the angle-addition formulas.
   auto cos_sin = [&](std::size_t i, std::size_t j, auto basic) {
     const double cx = cs[2 * i], sx = cs[2 * i + 1], cy = cs[2 * j], sy = cs[2 * j + 1];
@@ -1615,6 +1630,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     }
   }
   const double given_limit = std::max(omega, std::min(omega + kGivenAngleTolerance, kPairLimit));
+  const bool elastic = is_elastic(basis);
   std::string bad, apart;
   std::size_t first_bad = n, first_apart = n;
   auto fail = [&](std::size_t i, const std::string& why) {
@@ -1670,7 +1686,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       // Reference direction: the bisector of the chords (rotate ep by ψ/2, half-angle
       // formulas, no trigonometry); at a free end the adjacent chord (Remark 2.4 (a)).
       Vec2 ref;
-      double hc = 1.0, hs = 0.0, half = 0.0;
+      double hc = 1.0, hs = 0.0, half = 0.0, half_psi = 0.0;
       if (has_next && has_prev) {
         const double c = dot(ep, en), sn = cross(ep, en);
         const double psi = std::atan2(sn, c);  // stencil angle ψ_i (minus the corner)
@@ -1682,7 +1698,8 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
           hc = sn / (2.0 * hs);
         }
         ref = {ep.x * hc - ep.y * hs, ep.y * hc + ep.x * hs};
-        half = 0.5 * std::abs(psi);
+        half_psi = 0.5 * psi;
+        half = std::abs(half_psi);
         if (std::abs(psi) > 2.0 * omega) {
           fail(i, "(stencil angle " + deg(psi) +
                       (corner != 0.0 ? "° after the corner angle " + deg(corner) : std::string()) +
@@ -1694,8 +1711,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       ch.ref[t] = ref;
       ch.ca[t] = hc, ch.sa[t] = -hs;  // α = x − ψ/2
       ch.cb[t] = hc, ch.sb[t] = hs;   // β = x + ψ/2
-      ch.a[t] = std::atan2(-hs, hc);
-      ch.b[t] = std::atan2(hs, hc);
+      // The elastic bases add these angles to x; the others read them only for the start
+      // (start_quadratic), where ∓ψ/2 does without two atan2 per node (7% of a fit).
+      ch.a[t] = elastic ? std::atan2(-hs, hc) : -half_psi;
+      ch.b[t] = elastic ? std::atan2(hs, hc) : half_psi;
       ch.lo[t] = -(omega - half);
       ch.hi[t] = omega - half;
       if (given) {
