@@ -682,7 +682,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const std::size_t k = ch.node.size();
   const bool cyclic = ch.closed;
   Evaluation ev, trial;
-  Scratch cs, dir(k), dd(k), ee(k), work;
+  Scratch cs, dir(k), dd, ee, work;
   std::vector<double> xn(k);  // swapped with ch.x
   ChainResult res;
   const double tol = opt.tolerance;  // on the scaled projected gradient (dimensionless)
@@ -701,7 +701,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // predicted (−g·d/2; the projected Hessian is too stiff where E_1 is concave): the step is
   // doubled while that keeps lowering the energy. Without it such a stretch took one Newton
   // iteration per ~10% of progress (a 10⁴-point walk: 50 → 21 iterations; 10⁵: 121 → 43).
-  std::vector<double> xe(k);
+  std::vector<double> xe;  // sized on first use (elastic bases only)
   Evaluation further;
   // Also after a full step in nearly the direction of the last one ("creeping": the PSD
   // projection keeps each step short where E_1 is concave, and the iterate walked out of such a
@@ -723,6 +723,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     // direction is no noise.)
     const bool creep = creeping();
     if (!creep && (!(e0 - en > -0.75 * decrease) || -decrease <= rounding_scale)) return;
+    xe.resize(k);
     for (double f = 2.0; f <= 1024.0; f *= 2.0) {
       for (std::size_t i = 0; i < k; ++i) {
         // Creeping: only the nodes moving on as before (a stiff node whose Newton step is
@@ -787,21 +788,61 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     const double unit_pivot = pivot_unit(gscale);
     for (int attempt = 0; attempt < 60; ++attempt) {
       const bool projected = psd_first && attempt > 0;
-      char act = is_active(0);
-      const char act0 = act;
-      for (std::size_t i = 0; i < k; ++i) {
-        const char next = i + 1 < k ? is_active(i + 1) : act0;
-        dd[i] = act ? unit_pivot : (projected ? ev.pd[i] : ev.d[i]) + tau;
-        ee[i] = (act || next) ? 0.0 : projected ? ev.pe[i] : ev.e[i];
+      const double* hd = projected ? ev.pd.begin() : ev.d.begin();
+      const double* he = projected ? ev.pe.begin() : ev.e.begin();
+      // Row i of the reduced system: diagonal, coupling to i + 1, right-hand side.
+      auto row = [&](std::size_t i, bool act, bool next, double& di, double& ei, double& bi) {
+        di = act ? unit_pivot : hd[i] + tau;
+        ei = (act || next) ? 0.0 : he[i];
         // An active node moves onto its bound: it may sit inside the band, up to eps away, and
         // held there it kept the projected gradient at that distance (issue 18's stalled walk).
-        dir[i] = !act          ? -ev.g[i]
-                 : ch.fixed[i] ? 0.0
-                               : unit_pivot * ((ev.g[i] > 0.0 ? ch.lo[i] : ch.hi[i]) - ch.x[i]);
-        act = next;
+        bi = !act          ? -ev.g[i]
+             : ch.fixed[i] ? 0.0
+                           : unit_pivot * ((ev.g[i] > 0.0 ? ch.lo[i] : ch.hi[i]) - ch.x[i]);
+      };
+      bool act = is_active(0);
+      const bool act0 = act;
+      if (!cyclic || k < 3) {
+        // The rows built inside ldl_solve's loop (same arithmetic, same pivots): one pass over
+        // the nodes instead of three (build, scale, factor), no dd/ee arrays. A pivot at or
+        // below ldl_solve's floor, known only once the scale is, rejects the whole solve.
+        work.resize(2 * k);
+        double* D = work.begin();
+        double* l = D + k;
+        double scale = 0.0, min_pivot = std::numeric_limits<double>::infinity(), prev = 0.0;
+        bool bad = false;
+        for (std::size_t i = 0; i < k; ++i) {
+          const bool next = i + 1 < k ? is_active(i + 1) : act0;
+          double di, ei, bi;
+          row(i, act, next, di, ei, bi);
+          scale = std::max(scale, std::abs(di));
+          const double piv = di - prev;
+          bad = bad || !(piv > 0.0);
+          min_pivot = std::min(min_pivot, piv);
+          D[i] = 1.0 / piv;
+          if (i > 0) bi -= l[i - 1] * dir[i - 1];
+          dir[i] = bi;
+          if (i + 1 < k) {
+            l[i] = ei * D[i];
+            prev = l[i] * ei;
+          }
+          act = next;
+        }
+        if (!bad && min_pivot > 1e-14 * scale) {
+          dir[k - 1] *= D[k - 1];
+          for (std::size_t i = k - 1; i-- > 0;) dir[i] = dir[i] * D[i] - l[i] * dir[i + 1];
+          break;
+        }
+      } else {
+        dd.resize(k);
+        ee.resize(k);
+        for (std::size_t i = 0; i < k; ++i) {
+          const bool next = i + 1 < k ? is_active(i + 1) : act0;
+          row(i, act, next, dd[i], ee[i], dir[i]);
+          act = next;
+        }
+        if (ldl_solve(dd, ee, cyclic, dir, work)) break;
       }
-      if (!cyclic) ee[k - 1] = 0.0;
-      if (ldl_solve(dd, ee, cyclic, dir, work)) break;
       if (psd_first && attempt == 0) continue;  // next: the projected blocks, unshifted
       if (tau == 0.0) {
         for (double v : ev.d) dmax = std::max(dmax, std::abs(v));
