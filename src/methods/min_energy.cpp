@@ -1639,11 +1639,21 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     len[s] = l2 > 1e-290 && l2 < 1e290 ? std::sqrt(l2) : norm(c);  // where squares misbehave
     unit[s] = (1.0 / len[s]) * c;
   }
-  const std::vector<detail::ResolvedNode> nodes = detail::resolve_nodes(input, n);
+  // Points alone (no kinds, states, tangents or corners): every node resolves to the default,
+  // so none is materialized (the vector was 64 bytes a point, 3% of a fit and its page faults).
+  const bool plain = input.kinds.empty() && input.states.empty() && input.tangents.empty() &&
+                     input.in_tangents.empty() && input.out_tangents.empty() &&
+                     input.corners_deg.empty() && !input.start_tangent && !input.end_tangent;
+  const std::vector<detail::ResolvedNode> nodes =
+      plain ? std::vector<detail::ResolvedNode>{} : detail::resolve_nodes(input, n);
+  const detail::ResolvedNode regular;
+  auto node_at = [&](std::size_t i) -> const detail::ResolvedNode& {
+    return plain ? regular : nodes[i];
+  };
   // Chain boundaries: nodes with a free side (and the ends of an open curve).
   std::vector<std::size_t> cuts;
   for (std::size_t i = 0; i < n; ++i) {
-    if (nodes[i].splits() && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
+    if (node_at(i).splits() && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
   }
   std::vector<Chain> chains;
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
@@ -1699,7 +1709,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     for (std::size_t s = 0; s < nseg; ++s) ch.w[s] = 1.0 / len[seg_of(s)];
     for (std::size_t t = 0; t < k; ++t) {
       const std::size_t i = ch.node[t];
-      const detail::ResolvedNode& node = nodes[i];
+      const detail::ResolvedNode& node = node_at(i);
       const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
       // The node's variable is its incoming direction where it has one (the outgoing one at
       // the start of a chain); a corner turns the outgoing direction, so the next chord is
@@ -2061,7 +2071,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   out.spline.closed = out.closed;
   out.spline.segments.resize(segs);
   out.tangents.resize(n);
-  std::vector<Vec2> u, uout;  // unit incoming and outgoing direction per chain node
+  std::vector<Vec2> u;  // unit incoming direction per chain node
   Scratch start_work;
   // Elastic bases: the Béziers' tolerance, relative to the data's size.
   double tolerance = 0.0;
@@ -2109,7 +2119,6 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     }
     const std::size_t k = ch.node.size();
     u.resize(k);
-    uout.resize(k);
     for (std::size_t t = 0; t < k; ++t) {
       const double x = ch.x[t];
       if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
@@ -2118,10 +2127,10 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       double sx, cx;
       sincos_small(x, sx, cx);
       u[t] = {ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
-      uout[t] = ch.corner[t] == 0.0 ? u[t] : rotate(u[t], ch.corner[t]);
+      const Vec2 uout = ch.corner[t] == 0.0 ? u[t] : rotate(u[t], ch.corner[t]);
       // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
-        out.tangents[ch.node[t]] = uout[t];
+        out.tangents[ch.node[t]] = uout;
       }
     }
     // Each segment's cubic from the unit directions: cos/sin of α, β against the chord.
@@ -2131,9 +2140,11 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       const Point p0 = out.points[seg], p1 = out.points[seg + 1 == n ? 0 : seg + 1];
       const double L = 1.0 / ch.w[s];
       const Vec2 c = (p1 - p0) * ch.w[s];
-      const double ca = dot(uout[i], c), sa = cross(c, uout[i]), cb = dot(u[j], c),
-                   sb = cross(c, u[j]);
-      if (dirs) (*dirs)[seg] = {uout[i], u[j]};
+      // Node i starts a segment: its outgoing direction is the tangent written above (no
+      // second per-node array).
+      const Vec2 uout = out.tangents[ch.node[i]];
+      const double ca = dot(uout, c), sa = cross(c, uout), cb = dot(u[j], c), sb = cross(c, u[j]);
+      if (dirs) (*dirs)[seg] = {uout, u[j]};
       if (elastic) {
         // Relative to the chord; data too large for a finite diagonal: the accuracy itself.
         double relative = tolerance / norm(p1 - p0);
@@ -2152,7 +2163,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
       const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
       out.spline.segments[seg] = {
-          {{p0, p0 + (L * sp.s0 / 3.0) * uout[i], p1 - (L * sp.s1 / 3.0) * u[j], p1}},
+          {{p0, p0 + (L * sp.s0 / 3.0) * uout, p1 - (L * sp.s1 / 3.0) * u[j], p1}},
           out.knots[seg],
           out.knots[seg + 1],
           seg};
