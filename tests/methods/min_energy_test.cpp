@@ -1042,6 +1042,55 @@ TEST(MinEnergyFit, Issue18WalkConvergesToAKktPoint) {
   }
 }
 
+// The open chain's LDLᵀ keeps its pivots as ratios of continuants, rescaled by powers of two:
+// on a 3000-point walk whose chords span 10^4 (the continuants, products of the pivots, leave
+// 2^±512 many times along it) the fit converges to a stationary point, and the reversed walk
+// (the system eliminated from the other end, other continuants) reaches the same energy.
+TEST(MinEnergyFit, LongChainOfMixedScalesSolvesFromEitherEnd) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> turn(-kPi / 2, kPi / 2), exponent(-3.0, 1.0);
+  std::vector<Point> pts;
+  Point p{0, 0};
+  double heading = 0;
+  for (int i = 0; i < 3000; ++i) {
+    pts.push_back(p);
+    heading += turn(rng);
+    p += std::pow(10.0, exponent(rng)) * from_angle(heading);
+  }
+  const BasicCurveMethod qe = cond_g2(1.0);
+  const FitResult r = fit_with(qe, input_of(pts));
+  std::vector<Point> rev(pts.rbegin(), pts.rend());
+  const FitResult b = fit_with(qe, input_of(rev));
+  ASSERT_TRUE(r.solver && b.solver);
+  EXPECT_EQ(r.solver->status, SolverStatus::kConverged);
+  EXPECT_EQ(b.solver->status, SolverStatus::kConverged);
+  const double e = r.method_report["energy"].get<double>();
+  EXPECT_NEAR(b.method_report["energy"].get<double>(), e, 1e-12 * e);
+  // Stationary at every node off its bounds: the energy of its two spans, with its direction
+  // turned by ±h, by central differences.
+  const std::size_t n = pts.size();
+  std::vector<ChordAngles> a;
+  for (const Segment& s : r.spline.segments) a.push_back(chord_angles(s.bezier));
+  auto local = [&](std::size_t i, double d) {
+    double en = 0.0;
+    if (i + 1 < n) en += basic_energy(qe, a[i].alpha + d, a[i].beta).e / a[i].length;
+    if (i > 0) en += basic_energy(qe, a[i - 1].alpha, a[i - 1].beta + d).e / a[i - 1].length;
+    return en;
+  };
+  const double h = 1e-6;
+  int checked = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool inside = (i + 1 == n || std::abs(a[i].alpha) < kPi / 2 - 1e-6) &&
+                        (i == 0 || std::abs(a[i - 1].beta) < kPi / 2 - 1e-6);
+    if (!inside) continue;
+    const double scale =
+        std::max(1.0 / a[std::min(i, n - 2)].length, i > 0 ? 1.0 / a[i - 1].length : 0.0);
+    EXPECT_NEAR((local(i, h) - local(i, -h)) / (2.0 * h), 0.0, 1e-5 * scale) << "node " << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 2900);
+}
+
 /// A saved stress input (tests/data/stress/), parsed as the CLI would.
 io::ParsedInput stress_input(const std::string& file) {
   std::ifstream f(std::string(FAIRSPLINE_TEST_DATA_DIR) + "/stress/" + file);
