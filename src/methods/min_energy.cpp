@@ -264,11 +264,7 @@ inline bool psd_block(double& a, double& b, double& c) {
 /// sin and cos of an angle offset. The offsets stay within ±Ω ≤ ±π/2 (the feasible boxes), where
 /// the Taylor series to degree 21/22 is exact to rounding ((π/2)^23/23! < 2e-18) and, unlike a
 /// libm call, vectorizes across nodes; other angles take the libm path.
-inline void sincos_small(double x, double& sn, double& cn) {
-  if (!(std::abs(x) <= 1.6)) {
-    ::sincos(x, &sn, &cn);
-    return;
-  }
+inline void sincos_poly(double x, double& sn, double& cn) {
   const double z = x * x;
   // sin x = x Σ (−z)^k / (2k+1)!, cos x = Σ (−z)^k / (2k)!, k = 0..10 / 0..11 (Horner).
   double ps = 1.0 / 51090942171709440000.0;     // +1/21!
@@ -298,6 +294,25 @@ inline void sincos_small(double x, double& sn, double& cn) {
   for (int j = 20; j >= 0; j -= 2) pc = pc * z + ((j / 2) % 2 == 0 ? 1.0 : -1.0) * kInvFact[j];
   sn = x * ps;
   cn = pc;
+}
+
+inline void sincos_small(double x, double& sn, double& cn) {
+  if (!(std::abs(x) <= 1.6)) {
+    ::sincos(x, &sn, &cn);
+    return;
+  }
+  sincos_poly(x, sn, cn);
+}
+
+/// cos and sin of every x[i] into cs[2i], cs[2i+1]: the polynomial over all entries in a
+/// branch-free loop (the compiler vectorizes it; the branch of sincos_small kept it scalar, 13%
+/// of a fit), then libm for the rare entries outside its range. Same values as sincos_small.
+void sincos_all(std::span<const double> x, double* cs) {
+  const std::size_t k = x.size();
+  for (std::size_t i = 0; i < k; ++i) sincos_poly(x[i], cs[2 * i + 1], cs[2 * i]);
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!(std::abs(x[i]) <= 1.6)) ::sincos(x[i], &cs[2 * i + 1], &cs[2 * i]);
+  }
 }
 
 /// Energy (and, with kDerivatives, gradient and tridiagonal Hessian; with kProjected also
@@ -382,7 +397,7 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
   }
   const std::size_t k = ch.node.size();
   cs.resize(2 * k);
-  for (std::size_t i = 0; i < k; ++i) sincos_small(x[i], cs[2 * i + 1], cs[2 * i]);
+  sincos_all(x, cs.begin());
   // α = x_i + a_i, β = x_j + b_j by the angle-addition formulas.
   auto cos_sin = [&](std::size_t i, std::size_t j, auto basic) {
     const double cx = cs[2 * i], sx = cs[2 * i + 1], cy = cs[2 * j], sy = cs[2 * j + 1];
@@ -667,7 +682,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const std::size_t k = ch.node.size();
   const bool cyclic = ch.closed;
   Evaluation ev, trial;
-  Scratch cs, dir(k), dd(k), ee(k), work;
+  Scratch cs, dir(k), dd, ee, work;
   std::vector<double> xn(k);  // swapped with ch.x
   ChainResult res;
   const double tol = opt.tolerance;  // on the scaled projected gradient (dimensionless)
@@ -686,7 +701,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // predicted (−g·d/2; the projected Hessian is too stiff where E_1 is concave): the step is
   // doubled while that keeps lowering the energy. Without it such a stretch took one Newton
   // iteration per ~10% of progress (a 10⁴-point walk: 50 → 21 iterations; 10⁵: 121 → 43).
-  std::vector<double> xe(k);
+  std::vector<double> xe;  // sized on first use (elastic bases only)
   Evaluation further;
   // Also after a full step in nearly the direction of the last one ("creeping": the PSD
   // projection keeps each step short where E_1 is concave, and the iterate walked out of such a
@@ -708,6 +723,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     // direction is no noise.)
     const bool creep = creeping();
     if (!creep && (!(e0 - en > -0.75 * decrease) || -decrease <= rounding_scale)) return;
+    xe.resize(k);
     for (double f = 2.0; f <= 1024.0; f *= 2.0) {
       for (std::size_t i = 0; i < k; ++i) {
         // Creeping: only the nodes moving on as before (a stiff node whose Newton step is
@@ -772,21 +788,74 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     const double unit_pivot = pivot_unit(gscale);
     for (int attempt = 0; attempt < 60; ++attempt) {
       const bool projected = psd_first && attempt > 0;
-      char act = is_active(0);
-      const char act0 = act;
-      for (std::size_t i = 0; i < k; ++i) {
-        const char next = i + 1 < k ? is_active(i + 1) : act0;
-        dd[i] = act ? unit_pivot : (projected ? ev.pd[i] : ev.d[i]) + tau;
-        ee[i] = (act || next) ? 0.0 : projected ? ev.pe[i] : ev.e[i];
+      const double* hd = projected ? ev.pd.begin() : ev.d.begin();
+      const double* he = projected ? ev.pe.begin() : ev.e.begin();
+      // Row i of the reduced system: diagonal, coupling to i + 1, right-hand side.
+      auto row = [&](std::size_t i, bool act, bool next, double& di, double& ei, double& bi) {
+        di = act ? unit_pivot : hd[i] + tau;
+        ei = (act || next) ? 0.0 : he[i];
         // An active node moves onto its bound: it may sit inside the band, up to eps away, and
         // held there it kept the projected gradient at that distance (issue 18's stalled walk).
-        dir[i] = !act          ? -ev.g[i]
-                 : ch.fixed[i] ? 0.0
-                               : unit_pivot * ((ev.g[i] > 0.0 ? ch.lo[i] : ch.hi[i]) - ch.x[i]);
-        act = next;
+        bi = !act          ? -ev.g[i]
+             : ch.fixed[i] ? 0.0
+                           : unit_pivot * ((ev.g[i] > 0.0 ? ch.lo[i] : ch.hi[i]) - ch.x[i]);
+      };
+      bool act = is_active(0);
+      const bool act0 = act;
+      if (!cyclic || k < 3) {
+        // ldl_solve with the rows built inside its loop: one pass over the nodes instead of
+        // three (build, scale, factor), no dd/ee arrays. A pivot at or below ldl_solve's
+        // floor, known only once the scale is, rejects the whole solve.
+        work.resize(2 * k);
+        double* D = work.begin();
+        double* l = D + k;
+        // The pivots as ratios of continuants, q_i = d_i q_{i−1} − e_{i−1}² q_{i−2}, D_i =
+        // q_{i−1}/q_i: the serial dependence is a multiply and a subtract per node, where
+        // D_i = 1/(d_i − e_{i−1}² D_{i−1}) waited for a division (the loop's latency, ~40% of a
+        // fit at 10^5 points); the divisions are independent. q is kept within 2^±512 by exact
+        // power-of-two rescaling. The floor: 1/D_i > 1e-14 · the largest diagonal.
+        double scale = 0.0, max_inv = 0.0, q1 = 1.0, q2 = 0.0, e2 = 0.0;  // q_{i−1}, q_{i−2}
+        bool bad = false;
+        for (std::size_t i = 0; i < k; ++i) {
+          const bool next = i + 1 < k ? is_active(i + 1) : act0;
+          double di, ei, bi;
+          row(i, act, next, di, ei, bi);
+          scale = std::max(scale, std::abs(di));
+          double q = di * q1 - e2 * q2;
+          const double inv = q1 / q;
+          bad = bad || !(inv > 0.0);
+          max_inv = std::max(max_inv, inv);
+          D[i] = inv;
+          if (!(std::abs(q) <= 0x1p512 && std::abs(q) >= 0x1p-512) && std::isnormal(q)) {
+            const int ex = std::ilogb(q);
+            q = std::scalbn(q, -ex);
+            q1 = std::scalbn(q1, -ex);
+          }
+          q2 = q1;
+          q1 = q;
+          if (i > 0) bi -= l[i - 1] * dir[i - 1];
+          dir[i] = bi;
+          if (i + 1 < k) {
+            l[i] = ei * inv;
+            e2 = ei * ei;
+          }
+          act = next;
+        }
+        if (!bad && max_inv * (1e-14 * scale) < 1.0) {
+          dir[k - 1] *= D[k - 1];
+          for (std::size_t i = k - 1; i-- > 0;) dir[i] = dir[i] * D[i] - l[i] * dir[i + 1];
+          break;
+        }
+      } else {
+        dd.resize(k);
+        ee.resize(k);
+        for (std::size_t i = 0; i < k; ++i) {
+          const bool next = i + 1 < k ? is_active(i + 1) : act0;
+          row(i, act, next, dd[i], ee[i], dir[i]);
+          act = next;
+        }
+        if (ldl_solve(dd, ee, cyclic, dir, work)) break;
       }
-      if (!cyclic) ee[k - 1] = 0.0;
-      if (ldl_solve(dd, ee, cyclic, dir, work)) break;
       if (psd_first && attempt == 0) continue;  // next: the projected blocks, unshifted
       if (tau == 0.0) {
         for (double v : ev.d) dmax = std::max(dmax, std::abs(v));
@@ -1583,11 +1652,21 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     len[s] = l2 > 1e-290 && l2 < 1e290 ? std::sqrt(l2) : norm(c);  // where squares misbehave
     unit[s] = (1.0 / len[s]) * c;
   }
-  const std::vector<detail::ResolvedNode> nodes = detail::resolve_nodes(input, n);
+  // Points alone (no kinds, states, tangents or corners): every node resolves to the default,
+  // so none is materialized (the vector was 64 bytes a point, 3% of a fit and its page faults).
+  const bool plain = input.kinds.empty() && input.states.empty() && input.tangents.empty() &&
+                     input.in_tangents.empty() && input.out_tangents.empty() &&
+                     input.corners_deg.empty() && !input.start_tangent && !input.end_tangent;
+  const std::vector<detail::ResolvedNode> nodes =
+      plain ? std::vector<detail::ResolvedNode>{} : detail::resolve_nodes(input, n);
+  const detail::ResolvedNode regular;
+  auto node_at = [&](std::size_t i) -> const detail::ResolvedNode& {
+    return plain ? regular : nodes[i];
+  };
   // Chain boundaries: nodes with a free side (and the ends of an open curve).
   std::vector<std::size_t> cuts;
   for (std::size_t i = 0; i < n; ++i) {
-    if (nodes[i].splits() && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
+    if (node_at(i).splits() && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
   }
   std::vector<Chain> chains;
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
@@ -1615,6 +1694,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     }
   }
   const double given_limit = std::max(omega, std::min(omega + kGivenAngleTolerance, kPairLimit));
+  const bool elastic = is_elastic(basis);
   std::string bad, apart;
   std::size_t first_bad = n, first_apart = n;
   auto fail = [&](std::size_t i, const std::string& why) {
@@ -1642,7 +1722,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     for (std::size_t s = 0; s < nseg; ++s) ch.w[s] = 1.0 / len[seg_of(s)];
     for (std::size_t t = 0; t < k; ++t) {
       const std::size_t i = ch.node[t];
-      const detail::ResolvedNode& node = nodes[i];
+      const detail::ResolvedNode& node = node_at(i);
       const bool has_next = ch.closed || t + 1 < k, has_prev = ch.closed || t > 0;
       // The node's variable is its incoming direction where it has one (the outgoing one at
       // the start of a chain); a corner turns the outgoing direction, so the next chord is
@@ -1670,7 +1750,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       // Reference direction: the bisector of the chords (rotate ep by ψ/2, half-angle
       // formulas, no trigonometry); at a free end the adjacent chord (Remark 2.4 (a)).
       Vec2 ref;
-      double hc = 1.0, hs = 0.0, half = 0.0;
+      double hc = 1.0, hs = 0.0, half = 0.0, half_psi = 0.0;
       if (has_next && has_prev) {
         const double c = dot(ep, en), sn = cross(ep, en);
         const double psi = std::atan2(sn, c);  // stencil angle ψ_i (minus the corner)
@@ -1682,7 +1762,8 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
           hc = sn / (2.0 * hs);
         }
         ref = {ep.x * hc - ep.y * hs, ep.y * hc + ep.x * hs};
-        half = 0.5 * std::abs(psi);
+        half_psi = 0.5 * psi;
+        half = std::abs(half_psi);
         if (std::abs(psi) > 2.0 * omega) {
           fail(i, "(stencil angle " + deg(psi) +
                       (corner != 0.0 ? "° after the corner angle " + deg(corner) : std::string()) +
@@ -1694,8 +1775,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       ch.ref[t] = ref;
       ch.ca[t] = hc, ch.sa[t] = -hs;  // α = x − ψ/2
       ch.cb[t] = hc, ch.sb[t] = hs;   // β = x + ψ/2
-      ch.a[t] = std::atan2(-hs, hc);
-      ch.b[t] = std::atan2(hs, hc);
+      // The elastic bases add these angles to x; the others read them only for the start
+      // (start_quadratic), where ∓ψ/2 does without two atan2 per node (7% of a fit).
+      ch.a[t] = elastic ? std::atan2(-hs, hc) : -half_psi;
+      ch.b[t] = elastic ? std::atan2(hs, hc) : half_psi;
       ch.lo[t] = -(omega - half);
       ch.hi[t] = omega - half;
       if (given) {
@@ -1790,6 +1873,53 @@ void start_from(const detail::SpanDirections& warm, std::size_t n, std::vector<C
       const double x = std::atan2(cross(ch.ref[t], d), dot(ch.ref[t], d));
       ch.x[t] = std::clamp(x, ch.lo[t], ch.hi[t]);
     }
+  }
+}
+
+/// Starts the free directions of a cond-G2 chain at the minimizer of the energy's quadratic
+/// model about straight spans (α = β = 0: E_1 ≈ E_0 + (6λ − 2λ²)(α² + β²)/2 + 2λ² αβ), clamped
+/// to the boxes: one tridiagonal solve, no trigonometry. It is the optimum's first-order
+/// approximation (its error is cubic in the angles), where the bisectors (x = 0) are only
+/// zeroth-order, and saves Newton iterations (docs/methods/min-energy.md, "Performance").
+/// The model is convex only for λ < 3/2; otherwise, or if the solve fails, x stays 0.
+void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale, Scratch& work) {
+  const double p = 6.0 * m.lambda - 2.0 * m.lambda * m.lambda, q = 2.0 * m.lambda * m.lambda;
+  if (m.basis != MinEnergyBasis::kCondG2 || !(p > q)) return;
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  if (k < 3) return;
+  // Only where every α, β at the start is within ±60° (stencil angles within ±120°): beyond,
+  // the energy's non-convexity let this start pick another local minimum than the bisectors'
+  // in ~1% of walks with turns up to ±150° or ±175° (lower or higher); within, 15000 random
+  // walks reached the same minimum from both starts.
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!(std::abs(ch.a[i]) <= kPi / 3.0 && std::abs(ch.b[i]) <= kPi / 3.0)) return;
+  }
+  Scratch d(k), e(k), rhs(k);
+  for (std::size_t i = 0; i < k; ++i) d[i] = e[i] = rhs[i] = 0.0;
+  for (std::size_t s = 0; s < segs; ++s) {
+    const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+    const double w = ch.w[s], a = ch.a[i], b = ch.b[j];  // α and β at x = 0
+    d[i] += w * p;
+    d[j] += w * p;
+    e[s] = w * q;
+    rhs[i] -= w * (p * a + q * b);
+    rhs[j] -= w * (q * a + p * b);
+  }
+  const double unit = pivot_unit(gscale);
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!ch.fixed[i]) continue;  // held at x = 0: an identity row, decoupled
+    d[i] = unit;
+    rhs[i] = 0.0;
+    e[i] = 0.0;
+    if (i > 0 || ch.closed) e[i == 0 ? k - 1 : i - 1] = 0.0;
+  }
+  if (!ch.closed) e[k - 1] = 0.0;
+  if (!ldl_solve(d, e, ch.closed, rhs, work)) return;
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!std::isfinite(rhs[i])) return;
+  }
+  for (std::size_t i = 0; i < k; ++i) {
+    if (!ch.fixed[i]) ch.x[i] = std::clamp(rhs[i], ch.lo[i], ch.hi[i]);
   }
 }
 
@@ -1954,7 +2084,8 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   out.spline.closed = out.closed;
   out.spline.segments.resize(segs);
   out.tangents.resize(n);
-  std::vector<Vec2> u, uout;  // unit incoming and outgoing direction per chain node
+  std::vector<Vec2> u;  // unit incoming direction per chain node
+  Scratch start_work;
   // Elastic bases: the Béziers' tolerance, relative to the data's size.
   double tolerance = 0.0;
   if (elastic) {
@@ -1971,6 +2102,9 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     // has brought the data near unit size, so no weight over- or underflows).
     double gscale = 0.0;
     for (double w : ch.w) gscale = std::max(gscale, w);
+    if (!warm && options.search == MinEnergySearch::kNewton) {
+      start_quadratic(ch, m, gscale, start_work);
+    }
     const ChainResult r = m.basis == MinEnergyBasis::kElastic
                               ? optimize_elastic(ch, options, gscale)
                               : optimize_searched(ch, options, gscale);
@@ -1998,7 +2132,6 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     }
     const std::size_t k = ch.node.size();
     u.resize(k);
-    uout.resize(k);
     for (std::size_t t = 0; t < k; ++t) {
       const double x = ch.x[t];
       if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
@@ -2007,10 +2140,10 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       double sx, cx;
       sincos_small(x, sx, cx);
       u[t] = {ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
-      uout[t] = ch.corner[t] == 0.0 ? u[t] : rotate(u[t], ch.corner[t]);
+      const Vec2 uout = ch.corner[t] == 0.0 ? u[t] : rotate(u[t], ch.corner[t]);
       // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
-        out.tangents[ch.node[t]] = uout[t];
+        out.tangents[ch.node[t]] = uout;
       }
     }
     // Each segment's cubic from the unit directions: cos/sin of α, β against the chord.
@@ -2020,9 +2153,11 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       const Point p0 = out.points[seg], p1 = out.points[seg + 1 == n ? 0 : seg + 1];
       const double L = 1.0 / ch.w[s];
       const Vec2 c = (p1 - p0) * ch.w[s];
-      const double ca = dot(uout[i], c), sa = cross(c, uout[i]), cb = dot(u[j], c),
-                   sb = cross(c, u[j]);
-      if (dirs) (*dirs)[seg] = {uout[i], u[j]};
+      // Node i starts a segment: its outgoing direction is the tangent written above (no
+      // second per-node array).
+      const Vec2 uout = out.tangents[ch.node[i]];
+      const double ca = dot(uout, c), sa = cross(c, uout), cb = dot(u[j], c), sb = cross(c, u[j]);
+      if (dirs) (*dirs)[seg] = {uout, u[j]};
       if (elastic) {
         // Relative to the chord; data too large for a finite diagonal: the accuracy itself.
         double relative = tolerance / norm(p1 - p0);
@@ -2041,7 +2176,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
       const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
       out.spline.segments[seg] = {
-          {{p0, p0 + (L * sp.s0 / 3.0) * uout[i], p1 - (L * sp.s1 / 3.0) * u[j], p1}},
+          {{p0, p0 + (L * sp.s0 / 3.0) * uout, p1 - (L * sp.s1 / 3.0) * u[j], p1}},
           out.knots[seg],
           out.knots[seg + 1],
           seg};
