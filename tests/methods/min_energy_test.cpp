@@ -1001,6 +1001,15 @@ TEST(MinEnergyFit, CoordinateSearchIsNeverAboveTheReference) {
 /// iterations (and 1000). A node inside the active band (7.8e-9 from its bound, the gradient
 /// pushing outwards) was held there instead of moved onto the bound. Checked independently:
 /// KKT conditions of the output's directions by central differences of Σ E_1/L.
+/// Σ E/L of the (one or two) spans of an open curve at node i, its direction turned by d.
+double node_energy(const BasicCurveMethod& qe, const std::vector<ChordAngles>& a, std::size_t i,
+                   double d) {
+  double e = 0.0;
+  if (i < a.size()) e += basic_energy(qe, a[i].alpha + d, a[i].beta).e / a[i].length;
+  if (i > 0) e += basic_energy(qe, a[i - 1].alpha, a[i - 1].beta + d).e / a[i - 1].length;
+  return e;
+}
+
 TEST(MinEnergyFit, Issue18WalkConvergesToAKktPoint) {
   const FitInput in =
       input_of({{1.7823, -2.0654}, {3.3194, -2.1738}, {3.4487, -1.8315}, {2.9205, -2.3082},
@@ -1017,12 +1026,7 @@ TEST(MinEnergyFit, Issue18WalkConvergesToAKktPoint) {
   std::vector<ChordAngles> a;
   for (const Segment& s : r.spline.segments) a.push_back(chord_angles(s.bezier));
   // Energy of the two spans at node i with its direction turned by d.
-  auto local = [&](std::size_t i, double d) {
-    double e = 0.0;
-    if (i + 1 < n) e += basic_energy(qe, a[i].alpha + d, a[i].beta).e / a[i].length;
-    if (i > 0) e += basic_energy(qe, a[i - 1].alpha, a[i - 1].beta + d).e / a[i - 1].length;
-    return e;
-  };
+  auto local = [&](std::size_t i, double d) { return node_energy(qe, a, i, d); };
   const double h = 1e-6;
   for (std::size_t i = 0; i < n; ++i) {
     const double g = (local(i, h) - local(i, -h)) / (2.0 * h);
@@ -1071,12 +1075,7 @@ TEST(MinEnergyFit, LongChainOfMixedScalesSolvesFromEitherEnd) {
   const std::size_t n = pts.size();
   std::vector<ChordAngles> a;
   for (const Segment& s : r.spline.segments) a.push_back(chord_angles(s.bezier));
-  auto local = [&](std::size_t i, double d) {
-    double en = 0.0;
-    if (i + 1 < n) en += basic_energy(qe, a[i].alpha + d, a[i].beta).e / a[i].length;
-    if (i > 0) en += basic_energy(qe, a[i - 1].alpha, a[i - 1].beta + d).e / a[i - 1].length;
-    return en;
-  };
+  auto local = [&](std::size_t i, double d) { return node_energy(qe, a, i, d); };
   const double h = 1e-6;
   int checked = 0;
   for (std::size_t i = 0; i < n; ++i) {
