@@ -1258,6 +1258,7 @@ async function fitOtherCurves() {
   await Promise.all(jobs);
 }
 
+const ENTRIES_WAIT_MS = 8;
 let fitQueued = false;
 let fitInFlight = false;
 let fitPending = false;
@@ -1297,10 +1298,13 @@ async function runFit() {
       const mainDone = postFit(state.method, state.options);
       const entriesDone = Promise.all(entries.map(postEntry));
       if (entries.length) {
-        // The edited curve goes on screen as soon as its fit is back: the entries' fits share
-        // the server's cores and the browser's connections, and came back up to 40 ms later.
+        // The edited curve goes on screen as soon as its fit is back, unless the entries' fits
+        // follow within ENTRIES_WAIT_MS (over the live channel they come 1–3 ms later): a frame
+        // of its own for the main curve delayed the entries by that frame's 30–50 ms.
         const first = await mainDone;
-        if (first.fit && curveId === selectedCurve().id) mainMs = drawMainEarly(first, since);
+        const together = await Promise.race([entriesDone.then(() => true),
+          new Promise((resolve) => { setTimeout(() => resolve(false), ENTRIES_WAIT_MS); })]);
+        if (!together && first.fit && curveId === selectedCurve().id) mainMs = drawMainEarly(first, since);
       }
       const [main, others] = await Promise.all([mainDone, entriesDone]);
       // Another curve was selected meanwhile: these fits are not of its data.
@@ -1326,6 +1330,8 @@ async function runFit() {
     render();
     lastDrawMs = performance.now() - drawStart;
     if (since != null) lastLatencyMs = performance.now() - since;
+    // Drawn with the entries: the main curve came on screen with them.
+    if (mainMs == null && state.ensemble.length && mainFit && !mainStale) mainMs = lastLatencyMs;
     lastMainLatencyMs = mainMs;
     renderReport();
   } finally {
