@@ -1644,7 +1644,8 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
           break;
         }
       }
-      if (converged || !chain.feasible || o.rep.at_cap || rounds == kChainRounds) break;
+      // (At the iteration limit no start is tried, but finer grids may still prove infeasibility.)
+      if (converged || !chain.feasible || rounds == kChainRounds) break;
       const ChainScan passed = chain;
       for (const auto& cells : passed.start_cells) {
         for (std::size_t l = 1; l < m; ++l) {
@@ -1655,14 +1656,16 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       }
       if (!rescan(refined)) break;
     }
-    scan_note = chain.feasible ? "; the chain scan found " + std::to_string(chain.starts.size()) +
-                                     " chains of cells where a solution may lie (their cells "
-                                     "split " +
-                                     std::to_string(rounds) +
-                                     " times), and Newton from each stopped short of it"
-                               : "; the chain scan's grid is coarser than the set of "
-                                 "admissible directions around the G1 spline, so it proves "
-                                 "nothing";
+    const std::string splits = rounds == 1 ? "once" : std::to_string(rounds) + " times";
+    scan_note =
+        !chain.feasible
+            ? "; the chain scan's grid is coarser than the set of "
+              "admissible directions around the G1 spline, so it proves "
+              "nothing"
+            : "; the chain scan found " + std::to_string(chain.starts.size()) +
+                  " chains of cells where a solution may lie (their cells split " + splits +
+                  (o.rep.at_cap ? "), not tried as starts since the iteration limit was reached"
+                                : "), and Newton from each stopped short of it");
     if (!chain.feasible && chain.resolved && !options.best_effort) {
       const std::size_t at = 3 * chain.first_empty;
       throw Error(ErrorCode::kInfeasible,
@@ -1672,8 +1675,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                       std::to_string(kChainCells) +
                       " cells each (finer towards the edges of their cones" +
                       (refined ? " and towards the G1 spline's directions" : "") +
-                      (rounds > 0 ? ", cells of chains that passed coarser grids split " +
-                                        std::to_string(rounds) + " times"
+                      (rounds > 0 ? ", cells of chains that passed coarser grids split " + splits
                                   : std::string()) +
                       "), no chain of cells from " + pt(0) +
                       " lets the scaled curvature jumps vanish up to " + pt(at) +
