@@ -1646,8 +1646,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       }
       // (At the iteration limit no start is tried, but finer grids may still prove infeasibility.)
       if (converged || !chain.feasible || rounds == kChainRounds) break;
-      const ChainScan passed = chain;
-      for (const auto& cells : passed.start_cells) {
+      for (const auto& cells : chain.start_cells) {
         for (std::size_t l = 1; l < m; ++l) {
           const auto [lo, hi] = cells[l];
           for (int k = 1; k < kChainSplit && hi > lo; ++k)
