@@ -223,7 +223,7 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
 
 // Numbers the unknowns node by node; a closed curve's first two nodes come last (the border:
 // the wrap-around couples them with the end). Returns the number of border unknowns.
-std::size_t number_unknowns(Problem& pb, std::vector<double>& scale) {
+std::size_t number_unknowns(Problem& pb, std::vector<double>& scale, bool positions = true) {
   scale.clear();
   auto visit = [&](std::size_t i) {
     Node& nd = pb.node[i];
@@ -237,7 +237,7 @@ std::size_t number_unknowns(Problem& pb, std::vector<double>& scale) {
       scale.push_back(1.0);
     }
     nd.var = -1;
-    if (nd.r > 0.0) {
+    if (nd.r > 0.0 && positions) {
       const Vec2 off = nd.p - nd.q;
       const double d = norm(off);
       nd.u = d > 0.0 ? off / d : Vec2{1.0, 0.0};
@@ -488,6 +488,15 @@ class Solver {
       wsum_ += 1.0 / l;
     }
     tol = std::max(options.tolerance, kBallTolerance) * gscale_;
+    // Each node's residuals are measured against its own spans' weight, not the largest one:
+    // beside a near-repeated pair (weights 1e6 times the rest) the global scale let the other
+    // directions stop a tenth of the energy away from the optimum.
+    local_.assign(n_, 0.0);
+    for (std::size_t s = 0; s < ns_; ++s) {
+      const double w = 1.0 / st.len[s];
+      local_[s] = std::max(local_[s], w);
+      local_[pb.next(s)] = std::max(local_[pb.next(s)], w);
+    }
     // The elastic energies come from root-finds, relative-accurate to ~1e-12.
     relative_rounding_ = is_elastic(pb.m.basis) ? 1e-12 : 1e-15;
     max_iterations_ = options.max_iterations;
@@ -629,7 +638,9 @@ class Solver {
       }
       return now;
     };
+    damping_ = 0.0;
     for (;; ++o.iterations) {
+      if (mu == 0.0 && (o.iterations == 0 || shift_ > 0.0)) polish(mu, target);
       std::size_t border = number_unknowns(pb_, scale_);
       double phi = evaluate(mu, border);
       double pg = 0.0, wrong = 0.0;
@@ -711,6 +722,7 @@ class Solver {
       }
       // Steps accepted only within the rounding of φ: the point is as good as it gets.
       const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
+      adapt_damping(t, phi - e);
       best_pg = std::min(best_pg, pg);
       flat = e > phi - rounding && pg >= 0.9 * best_pg ? flat + 1 : 0;
       std::swap(pb_, trial_);
@@ -886,9 +898,10 @@ class Solver {
     node_wrong_.assign(n_, 0.0);
     for (std::size_t i = 0; i < n_; ++i) {
       const Node& nd = pb_.node[i];
+      const double f = gscale_ / local_[i];
       auto see = [&](int v) {
-        if (v >= 0 && std::abs(g_[v]) > pg) {
-          pg = std::abs(g_[v]);
+        if (v >= 0 && f * std::abs(g_[v]) > pg) {
+          pg = f * std::abs(g_[v]);
           pg_at = i;
         }
       };
@@ -901,14 +914,14 @@ class Solver {
       }
       for (int s : {nd.in, nd.out}) {
         if (s < 0 || pb_.slot[s].active < 0) continue;
-        slot_wrong_[s] = pb_.slot[s].sign * raw_.slot[s];
+        slot_wrong_[s] = std::max(slot_wrong_[s], f * pb_.slot[s].sign * raw_.slot[s]);
         if (slot_wrong_[s] > wrong) {
           wrong = slot_wrong_[s];
           wrong_at = i;
         }
       }
       if (!nd.boundary) continue;
-      node_wrong_[i] = outward(i);
+      node_wrong_[i] = f * outward(i);
       if (node_wrong_[i] > wrong) {
         wrong = node_wrong_[i];
         wrong_at = i;
@@ -1004,18 +1017,71 @@ class Solver {
     double dmax = 0.0;
     for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
     const double min_pivot = kMinPivot * std::max(dmax, gscale_);
-    shift_ = 0.0;
-    // (convexify factored the same matrix already)
+    // (convexify factored the same matrix already: definite, no shift)
+    if (factored_) damping_ = 0.0;
+    shift_ = damping_;
     bool factored = pins.empty() && factored_;
-    for (int tries = 0; tries < 40 && !factored; ++tries) {
+    for (int tries = 0; tries < 60 && !factored; ++tries) {
       factored = h->factor(shift_, min_pivot);
-      if (!factored) shift_ = shift_ == 0.0 ? 1e-10 * std::max(dmax, gscale_) : shift_ * 10.0;
+      if (!factored) shift_ = shift_ == 0.0 ? 1e-10 * std::max(dmax, gscale_) : shift_ * 4.0;
     }
     // (Not factored: the matrix is not finite; a gradient step, which the line search rejects
     // if it does not help.)
     if (factored) h->solve(step_);
-    slope_ = 0.0;
-    for (std::size_t k = 0; k < g_.size(); ++k) slope_ += g_[k] * step_[k];
+    slope_ = step_sq_ = 0.0;
+    for (std::size_t k = 0; k < g_.size(); ++k) {
+      slope_ += g_[k] * step_[k];
+      step_sq_ += step_[k] * step_[k];
+    }
+  }
+
+  // Newton steps on the directions alone at the current positions, until they are stationary
+  // there. The full step then starts on the valley floor of the short spans: off it, a short
+  // span's stiff torque times the curvature of its chord's angle in the positions makes the
+  // Newton matrix indefinite along the valley (a shift, then steps of a few percent).
+  void polish(double mu, double target) {
+    const double damping = damping_;
+    damping_ = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      const std::size_t border = number_unknowns(pb_, scale_, false);
+      const double phi = evaluate(mu, border);
+      double pg = 0.0;
+      for (double v : g_) pg = std::max(pg, std::abs(v));
+      if (g_.empty() || pg <= 0.1 * target) break;
+      convexify(mu, border);
+      newton();
+      bool accepted = false;
+      for (double t = 1.0; t > 1e-6 && !accepted; t *= 0.5) {
+        trial_ = pb_;
+        for (Slot& sl : trial_.slot) {
+          if (sl.var >= 0) sl.theta += t * step_[sl.var] * scale_[sl.var];
+        }
+        if (!settle(trial_, st_)) continue;
+        const double e = total_energy(trial_, st_) + barrier(trial_, st_, mu);
+        accepted = std::isfinite(e) && e <= phi + 1e-4 * t * slope_;
+      }
+      if (!accepted) break;
+      std::swap(pb_, trial_);
+    }
+    damping_ = damping;
+  }
+
+  // Where the Newton matrix needed a shift (negative curvature), the shift is carried to the
+  // next iteration and adapted to how well the quadratic model predicted the accepted step:
+  // the least shift that makes the matrix definite gives a step along the near-null direction
+  // that the line search cut to a few percent, alternating with tiny steps.
+  void adapt_damping(double t, double actual) {
+    if (shift_ == 0.0) {
+      damping_ = 0.0;
+      return;
+    }
+    const double predicted = -t * slope_ + 0.5 * t * t * (slope_ + shift_ * step_sq_);
+    const double rho = predicted > 0.0 ? actual / predicted : 0.0;
+    if (t == 1.0 && rho > 0.25) {
+      damping_ = shift_ / 4.0;
+    } else {  // a step that long along the flat directions was too long
+      damping_ = shift_ / std::max(t, 0.01) * (rho < 0.25 ? 2.0 : 1.0);
+    }
   }
 
   // How far along the step (as a fraction) the first free position reaches its circle.
@@ -1067,6 +1133,7 @@ class Solver {
   double force_ = 0.0, torque_ = 0.0;  // the barrier's scales
   double held_weight_ = 0.0;           // the exact phase's barrier weight on position bounds
   double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
+  std::vector<double> local_;  // per node: its spans' largest weight
   int max_iterations_ = 200;
   std::vector<double> scale_, g_, step_, slot_wrong_, node_wrong_;
   std::vector<char> held_;
@@ -1074,7 +1141,8 @@ class Solver {
   Raw raw_;
   Problem trial_;
   State tst_;
-  double shift_ = 0.0, slope_ = 0.0;
+  double shift_ = 0.0, slope_ = 0.0, step_sq_ = 0.0;
+  double damping_ = 0.0;   // the Levenberg–Marquardt shift carried between iterations
   bool factored_ = false;  // h_ holds its own factor at shift 0
 };
 

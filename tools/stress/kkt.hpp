@@ -529,7 +529,9 @@ inline KktResult check_g2_breakpoints(const FitInput& in, const FitResult& r) {
 /// stencil at 2Ω), the multiplier of a constraint on positions is not known here: those balls
 /// are not checked, nor the ends of a chord below 1e-6 of the coordinates, nor those of an
 /// elastic span on its pair bound |α − β| = π. Forces are measured as
-/// the solver measures them: times the shorter adjacent chord, over max 1/L. Positions must lie in
+/// the solver measures them: times the shorter adjacent chord ℓ, over the node's own weight 1/ℓ
+/// (not the largest weight of the curve, which beside a near-repeated pair let forces a tenth of
+/// the energy pass). Positions must lie in
 /// their discs to the rounding of their coordinates.
 inline KktResult check_balls(const FitInput& in, const FitResult& r, const BasicCurveMethod& m) {
   FitInput at = in;
@@ -543,11 +545,9 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   if (!detail::spans_of(r, n, spans, first, last, legs)) return legs;
   std::vector<Vec2> force(n), unit_n(spans);
   std::vector<double> g_out(spans), g_in(spans), al(spans), be(spans), len(spans);
-  double gscale = 0.0;
   for (std::size_t s = 0; s < spans; ++s) {
     const std::size_t j = s + 1 == n ? 0 : s + 1;
     const Vec2 c = r.points[j] - r.points[s];
-    gscale = std::max(gscale, 1.0 / distance(in.points[j], in.points[s]));
     const Vec2 d0 = detail::start_leg(r.spline.segments[first[s]].bezier);
     const Vec2 d1 = detail::end_leg(r.spline.segments[last[s]].bezier);
     const double phi = std::atan2(c.y, c.x);
@@ -621,7 +621,7 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
     if (r.closed || i > 0)
       ell = std::min(ell, distance(in.points[i], in.points[i ? i - 1 : n - 1]));
     if (r.closed || i + 1 < n) ell = std::min(ell, distance(in.points[i], in.points[(i + 1) % n]));
-    const Vec2 off = r.points[i] - in.points[i], f = force[i] * (ell / gscale);
+    const Vec2 off = r.points[i] - in.points[i], f = force[i] * (ell * ell);
     const double here = std::max({std::abs(in.points[i].x), std::abs(in.points[i].y),
                                   std::abs(r.points[i].x), std::abs(r.points[i].y)});
     const double rounding = 16.0 * detail::kEps * here;  // of p − q and of the projection
