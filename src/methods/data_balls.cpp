@@ -67,8 +67,13 @@ struct Slot {
   int var = -1;
 };
 
+// A position is kept as its offset from the centre: a chord between near-repeated centres is
+// then (q_j − q_i) + (o_j − o_i), the first difference exact (Sterbenz) and the offsets
+// relative-accurate, where absolute positions rounded the chord's angle to ε|q|/L (1e-6 rad for
+// a chord 1e-10 of the coordinates).
 struct Node {
-  Point q{}, p{};  // centre and position
+  Point q{};  // centre
+  Vec2 o{};   // position − centre
   double r = 0.0;
   bool boundary = false;  // on the disc's circle (one unknown, the angle)
   double scale = 1.0;     // of its position unknowns: the shorter adjacent chord
@@ -84,23 +89,29 @@ struct Problem {
   bool closed = false;
   std::vector<Node> node;
   std::vector<Slot> slot;
+  Point position(std::size_t i) const { return node[i].q + node[i].o; }
+  Vec2 chord(std::size_t s) const {
+    const Node& a = node[s];
+    const Node& b = node[next(s)];
+    return (b.q - a.q) + (b.o - a.o);
+  }
   std::size_t spans() const { return closed ? node.size() : node.size() - 1; }
   std::size_t next(std::size_t i) const { return i + 1 == node.size() ? 0 : i + 1; }
 };
 
 // Moves a position radially onto its circle, which becomes its constraint.
 void put_on_circle(Node& nd) {
-  const Vec2 off = nd.p - nd.q;
-  nd.p = nd.q + (nd.r / norm(off)) * off;
+  nd.o = (nd.r / norm(nd.o)) * nd.o;
   nd.boundary = true;
 }
 
+// The position's offset from its centre, with its derivatives (chord() adds the centres).
 VJet position(const Node& nd) {
   VJet j;
-  j.v = nd.p;
+  j.v = nd.o;
   if (nd.var < 0) return j;
   if (nd.boundary) {
-    const Vec2 u = (nd.p - nd.q) / nd.r;
+    const Vec2 u = nd.o / nd.r;
     j.m = 1;
     j.idx[0] = nd.var;
     j.d[0] = {-nd.r * u.y, nd.r * u.x};
@@ -114,9 +125,9 @@ VJet position(const Node& nd) {
   return j;
 }
 
-VJet chord(const VJet& a, const VJet& b) {  // b − a
+VJet chord(const VJet& a, const VJet& b, Vec2 centres) {  // b − a, centres q_b − q_a
   VJet c;
-  c.v = b.v - a.v;
+  c.v = centres + (b.v - a.v);
   c.m = a.m + b.m;
   for (int k = 0; k < a.m; ++k) {
     c.idx[k] = a.idx[k];
@@ -159,7 +170,7 @@ void chord_angles(const Problem& pb, State& st) {
   st.phi.resize(ns);
   st.len.resize(ns);
   for (std::size_t s = 0; s < ns; ++s) {
-    const Vec2 c = pb.node[pb.next(s)].p - pb.node[s].p;
+    const Vec2 c = pb.chord(s);
     st.phi[s] = std::atan2(c.y, c.x);
     st.len[s] = norm(c);
   }
@@ -238,7 +249,7 @@ std::size_t number_unknowns(Problem& pb, std::vector<double>& scale, bool positi
     }
     nd.var = -1;
     if (nd.r > 0.0 && positions) {
-      const Vec2 off = nd.p - nd.q;
+      const Vec2 off = nd.o;
       const double d = norm(off);
       nd.u = d > 0.0 ? off / d : Vec2{1.0, 0.0};
       nd.var = static_cast<int>(scale.size());
@@ -268,7 +279,8 @@ Jet slot_jet(const Problem& pb, const Slot& sl) {
     j.d[0] = 1.0;
   } else if (sl.active >= 0) {
     const std::size_t s = sl.span[sl.active];
-    j = angle(chord(position(pb.node[s]), position(pb.node[pb.next(s)])));
+    const std::size_t t = pb.next(s);
+    j = angle(chord(position(pb.node[s]), position(pb.node[t]), pb.node[t].q - pb.node[s].q));
     j.v = sl.theta;
   }
   return j;
@@ -382,7 +394,7 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
     Jet o = slot_jet(pb, pb.slot[a.out]);
     if (a.in == a.out) o.v += a.corner;
     const Jet in = slot_jet(pb, pb.slot[pb.node[j].in]);
-    const VJet c = chord(position(a), position(pb.node[j]));
+    const VJet c = chord(position(a), position(pb.node[j]), pb.node[j].q - a.q);
     const double phi = st.phi[s];
     BasicEnergy e1 = span_energy(pb.m, wrap(o.v - phi), wrap(in.v - phi));
     if (convex) project_psd(e1);
@@ -444,9 +456,16 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
 struct Outcome {
   int iterations = 0;
   bool converged = false, stalled = false;
-  double residual = HUGE_VAL;  // relative KKT residual
+  double residual = HUGE_VAL;  // relative KKT residual, each node's over its rounding floor
+  double raw = HUGE_VAL;       // the same, without the floors
+  double floor = 0.0;          // the largest rounding floor above the tolerance (else 0)
   std::size_t worst = 0;       // the node where it is largest
 };
+
+/// A node's residual cannot fall below the rounding of its chords' angles: a chord ℓ between
+/// points of size S has its angle to ~2εS/ℓ, which turns its spans' torques by up to ~12 times
+/// that per weight (E_1's second derivatives); with a margin of 2.
+constexpr double kRoundingFloor = 48.0;
 
 /// The barrier phase only finds the neighbourhood of the optimum; the active-set phase ends it.
 constexpr double kLastBarrier = 1e-14;
@@ -471,6 +490,12 @@ constexpr double kCrossOver = 1e-3;
 
 /// A KKT residual the optimizer may stop at when no step lowers the energy any more.
 constexpr double kConditioningResidual = 1e-6;
+
+// Stopped at the precision the data allow: converged to every node's rounding floor, or no step
+// lowers the energy within kConditioningResidual (or the floor).
+bool stopped_at_precision(const Outcome& o) {
+  return !o.converged && o.stalled && o.residual <= std::max(kConditioningResidual, o.floor);
+}
 
 /// The output interpolation's directions agree with the optimizer's to this angle (rad), and
 /// the interpolation from its own start finds no energy lower by this fraction, or the
@@ -497,6 +522,18 @@ class Solver {
       local_[s] = std::max(local_[s], w);
       local_[pb.next(s)] = std::max(local_[pb.next(s)], w);
     }
+    tol_ = std::max(options.tolerance, kBallTolerance);
+    floor_.assign(n_, 0.0);
+    auto size = [&](std::size_t i) {
+      const Node& nd = pb.node[i];
+      return std::max(std::abs(nd.q.x), std::abs(nd.q.y));
+    };
+    for (std::size_t s = 0; s < ns_; ++s) {
+      const std::size_t j = pb.next(s);
+      const double f = kRoundingFloor * kEps * std::max(size(s), size(j)) / st.len[s];
+      floor_[s] = std::max(floor_[s], f);
+      floor_[j] = std::max(floor_[j], f);
+    }
     // The elastic energies come from root-finds, relative-accurate to ~1e-12.
     relative_rounding_ = is_elastic(pb.m.basis) ? 1e-12 : 1e-15;
     max_iterations_ = options.max_iterations;
@@ -504,6 +541,12 @@ class Solver {
   }
 
   double tol = 0.0;
+  double tolerance() const { return tol_; }
+  double floor_above_tolerance() const {
+    double f = 0.0;
+    for (double x : floor_) f = x > tol_ ? std::max(f, x) : f;
+    return f;
+  }
 
   /// Barrier stages μ = 1e-2 … 1e-12: each minimizes E − μ Σ log(1 − |p − q|²/r²)/ℓ to a
   /// residual of μ.
@@ -538,7 +581,7 @@ class Solver {
       for (std::size_t i = 0; i < n_; ++i) {
         const Node& nd = pb_.node[i];
         if (nd.r == 0.0) continue;
-        const double now = 1.0 - norm(nd.p - nd.q) / nd.r;
+        const double now = 1.0 - norm(nd.o) / nd.r;
         settled = settled && (now <= kCrossOver || std::abs(now - slack[i]) <= 0.2 * slack[i]);
         slack[i] = now;
       }
@@ -579,7 +622,7 @@ class Solver {
     for (std::size_t i = 0; i < n_; ++i) {
       const Node& nd = pb_.node[i];
       if (nd.r == 0.0 || nd.boundary) continue;
-      const double d = norm(nd.p - nd.q);
+      const double d = norm(nd.o);
       if (d >= nd.r * (1.0 - kCrossOver) && d > 0.0) near.push_back(i);
     }
     // All at once, or (if that leaves a direction no box) one by one, each kept if it does not.
@@ -647,6 +690,7 @@ class Solver {
       std::size_t pg_at = 0, wrong_at = 0;
       residuals(pg, pg_at, wrong, wrong_at);
       o.residual = std::max(pg, wrong) / gscale_;
+      o.raw = raw_residual_;
       o.worst = pg >= wrong ? pg_at : wrong_at;
       if (pg <= target && wrong <= target) {
         o.converged = true;
@@ -677,7 +721,7 @@ class Solver {
           const std::size_t before = pins.size();
           for (const Node& nd : pb_.node) {
             if (nd.var < 0 || nd.boundary) continue;
-            const Vec2 off = nd.p - nd.q;
+            const Vec2 off = nd.o;
             const std::size_t v = static_cast<std::size_t>(nd.var);
             if (norm(off + displacement(nd)) <= nd.r) continue;
             if (std::any_of(pins.begin(), pins.end(),
@@ -789,7 +833,7 @@ class Solver {
     double b = 0.0;
     for (const Node& nd : pb.node) {
       if (mu == 0.0 || nd.r == 0.0 || nd.boundary) continue;
-      const Vec2 off = nd.p - nd.q;
+      const Vec2 off = nd.o;
       b -= mu * force_ * nd.r * std::log1p(-dot(off, off) / (nd.r * nd.r));
     }
     const double om = pb.omega;
@@ -848,9 +892,9 @@ class Solver {
         const std::size_t t = sl.span[k];
         // dev = θ + offset − φ_t: θ as the slot's jet (a free unknown, or its own chord's angle
         // when it sits on a bound).
-        const Jet dev =
-            difference(slot_jet(pb_, sl),
-                       angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)]))));
+        const Jet dev = difference(
+            slot_jet(pb_, sl), angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)]),
+                                           pb_.node[pb_.next(t)].q - pb_.node[t].q)));
         const double x = wrap(sl.theta + sl.offset[k] - st_.phi[t]);
         const double lo = std::max(om + x, kBoxRounding * om),
                      hi = std::max(om - x, kBoxRounding * om);
@@ -873,7 +917,7 @@ class Solver {
     }
     for (const Node& nd : pb_.node) {
       if (mu == 0.0 || nd.var < 0 || nd.boundary) continue;
-      const Vec2 off = nd.p - nd.q;
+      const Vec2 off = nd.o;
       const double w = mu * force_ * nd.r, slack = nd.r * nd.r - dot(off, off);
       const double sc = scale_[nd.var];
       const std::size_t v = static_cast<std::size_t>(nd.var);
@@ -896,9 +940,12 @@ class Solver {
   void residuals(double& pg, std::size_t& pg_at, double& wrong, std::size_t& wrong_at) {
     slot_wrong_.assign(pb_.slot.size(), 0.0);
     node_wrong_.assign(n_, 0.0);
+    double raw = 0.0;
     for (std::size_t i = 0; i < n_; ++i) {
       const Node& nd = pb_.node[i];
-      const double f = gscale_ / local_[i];
+      const double over = std::max(1.0, floor_[i] / tol_);
+      const double f = gscale_ / local_[i] / over;
+      const double before = std::max(pg, wrong);
       auto see = [&](int v) {
         if (v >= 0 && f * std::abs(g_[v]) > pg) {
           pg = f * std::abs(g_[v]);
@@ -920,13 +967,16 @@ class Solver {
           wrong_at = i;
         }
       }
-      if (!nd.boundary) continue;
-      node_wrong_[i] = f * outward(i);
-      if (node_wrong_[i] > wrong) {
-        wrong = node_wrong_[i];
-        wrong_at = i;
+      if (nd.boundary) {
+        node_wrong_[i] = f * outward(i);
+        if (node_wrong_[i] > wrong) {
+          wrong = node_wrong_[i];
+          wrong_at = i;
+        }
       }
+      if (std::max(pg, wrong) > before) raw = std::max(raw, std::max(pg, wrong) * over / gscale_);
     }
+    raw_residual_ = raw;
   }
 
   // ∂E/∂p at node i with the directions on a bound at its chords turning with them.
@@ -936,7 +986,7 @@ class Solver {
       if (!pb_.closed && (side == 0 ? i == 0 : i + 1 == n_)) continue;
       const std::size_t s = side == 0 ? (i ? i - 1 : n_ - 1) : i;
       const std::size_t a = s, b = pb_.next(s);
-      const Vec2 c = pb_.node[b].p - pb_.node[a].p;
+      const Vec2 c = pb_.chord(s);
       const Vec2 dphi = (side == 1 ? -1.0 : 1.0) / dot(c, c) * Vec2{-c.y, c.x};
       for (int sk : {pb_.node[a].out, pb_.node[b].in}) {
         const Slot& sl = pb_.slot[sk];
@@ -949,7 +999,7 @@ class Solver {
   // The scaled derivative of E as node i moves away from its centre (0 at the centre).
   double outward(std::size_t i) const {
     const Node& nd = pb_.node[i];
-    const Vec2 off = nd.p - nd.q;
+    const Vec2 off = nd.o;
     const double d = norm(off);
     return d > 0.0 ? dot(force(i), off) / d * nd.scale : 0.0;
   }
@@ -965,7 +1015,7 @@ class Solver {
     for (std::size_t i = 0; i < n_; ++i) {
       Node& nd = pb_.node[i];
       if (nd.var < 0 || nd.boundary) continue;
-      const Vec2 off = nd.p - nd.q;
+      const Vec2 off = nd.o;
       const Vec2 d = displacement(nd);
       if (norm(off) < nd.r * (1.0 - 1e-12) || dot(off, d) <= 0.0) continue;
       put_on_circle(nd);
@@ -1090,7 +1140,7 @@ class Solver {
     for (const Node& nd : pb_.node) {
       if (nd.var < 0 || nd.boundary) continue;
       const Vec2 d = displacement(nd);
-      const Vec2 off = nd.p - nd.q;
+      const Vec2 off = nd.o;
       const double qa = dot(d, d), qb = dot(off, d), qc = dot(off, off) - nd.r * nd.r;
       if (qa == 0.0) continue;
       t = std::min(t, (-qb + std::sqrt(std::max(0.0, qb * qb - qa * qc))) / qa);
@@ -1112,13 +1162,13 @@ class Solver {
       }
       if (nd.var < 0) continue;
       if (nd.boundary) {
-        const Vec2 u = (nd.p - nd.q) / nd.r;
+        const Vec2 u = nd.o / nd.r;
         const double dt = t * step_[nd.var] * scale_[nd.var];
-        nd.p = nd.q + nd.r * Vec2{u.x * std::cos(dt) - u.y * std::sin(dt),
-                                  u.y * std::cos(dt) + u.x * std::sin(dt)};
+        nd.o = nd.r * Vec2{u.x * std::cos(dt) - u.y * std::sin(dt),
+                           u.y * std::cos(dt) + u.x * std::sin(dt)};
       } else {
-        nd.p = nd.p + t * displacement(nd);
-        const Vec2 off = nd.p - nd.q;
+        nd.o = nd.o + t * displacement(nd);
+        const Vec2 off = nd.o;
         if (mu > 0.0 && norm(off) >= nd.r) return false;
         if (norm(off) >= nd.r * (1.0 - 1e-12)) put_on_circle(nd);
       }
@@ -1134,6 +1184,8 @@ class Solver {
   double held_weight_ = 0.0;           // the exact phase's barrier weight on position bounds
   double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
   std::vector<double> local_;  // per node: its spans' largest weight
+  std::vector<double> floor_;  // per node: the residual its chords' rounding allows
+  double tol_ = 0.0, raw_residual_ = 0.0;
   int max_iterations_ = 200;
   std::vector<double> scale_, g_, step_, slot_wrong_, node_wrong_;
   std::vector<char> held_;
@@ -1252,10 +1304,16 @@ Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barr
     exact.converged = more.converged;
     exact.stalled = more.stalled;
     exact.residual = more.residual;
+    exact.raw = more.raw;
     exact.worst = more.worst;
     exact.iterations += more.iterations + 1;
   }
   exact.iterations += res.iterations;
+  // Converged only to a rounding floor above the tolerance: the precision the data allow.
+  exact.floor = solver.floor_above_tolerance();
+  if (exact.converged && exact.raw > solver.tolerance())
+    exact.converged = false, exact.stalled = true;
+  exact.residual = exact.raw;
   return exact;
 }
 
@@ -1275,15 +1333,15 @@ std::optional<std::size_t> descent_beside_half_turns(const Problem& pb, const Fi
     for (std::size_t i : {s, pb.next(s)}) {
       const Node& nd = pb.node[i];
       if (nd.r == 0.0) continue;
-      const Vec2 off = nd.p - nd.q;
+      const Vec2 off = nd.o;
       const double d = norm(off);
       const Vec2 radial = d > 0.0 ? off / d : Vec2{1.0, 0.0};
       const Vec2 along{-radial.y, radial.x};
       const double h = 1e-5 * nd.r;
       for (const Vec2 step : {along, -along, radial, -radial}) {
         FitInput moved = at;
-        const Point p = nd.p + h * step;
-        if (distance(p, nd.q) > nd.r) continue;
+        const Point p = pb.position(i) + h * step;
+        if (norm(nd.o + h * step) > nd.r) continue;
         moved.points[i] = p;
         if (i == 0 && moved.points.size() > pb.node.size()) moved.points.back() = p;
         FitResult scratch;
@@ -1336,7 +1394,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   pb.node.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     Node& nd = pb.node[i];
-    nd.q = nd.p = out.points[i];
+    nd.q = out.points[i];
     nd.r = i < input.radii.size() ? input.radii[i] : 0.0;
   }
   const std::size_t ns = pb.spans();
@@ -1418,8 +1476,8 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   if (const std::optional<std::vector<Point>> line = straight_line(pb)) {
     for (std::size_t i = 0; i < n; ++i) {
       Node& nd = pb.node[i];
-      nd.p = (*line)[i];
-      nd.boundary = nd.r > 0.0 && distance(nd.p, nd.q) >= nd.r * (1.0 - 1e-9);
+      nd.o = (*line)[i] - nd.q;
+      nd.boundary = nd.r > 0.0 && norm(nd.o) >= nd.r * (1.0 - 1e-9);
     }
     chord_angles(pb, st);
     for (std::size_t i = 0; i < n; ++i) {  // every direction along its chords
@@ -1446,7 +1504,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   }
   int iterations = res.iterations;
   bool converged = res.converged;
-  bool at_precision = !converged && res.stalled && res.residual <= kConditioningResidual;
+  bool at_precision = stopped_at_precision(res);
   double residual = res.residual;
   const std::size_t worst = res.worst;
   if (!converged && !at_precision && !options.best_effort) {
@@ -1497,8 +1555,8 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   double unit_turns = 0.0;
   for (double l : st.len) unit_turns += 1.0 / l;
   for (int round = 0;; ++round) {
-    for (std::size_t i = 0; i < n; ++i) moved.points[i] = pb.node[i].p;
-    if (moved.points.size() > n) moved.points[n] = pb.node[0].p;  // a closed curve's repeat
+    for (std::size_t i = 0; i < n; ++i) moved.points[i] = pb.position(i);
+    if (moved.points.size() > n) moved.points[n] = pb.position(0);  // a closed curve's repeat
     const SpanDirections best = optimum_directions();
     SpanDirections got;
     rep = MinEnergyReport{};
@@ -1581,8 +1639,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     }
     settle(pb, st);
     const Outcome more = solve(pb, st, options, false);
-    if (!more.converged && !(more.stalled && more.residual <= kConditioningResidual) &&
-        !options.best_effort) {
+    if (!more.converged && !stopped_at_precision(more) && !options.best_effort) {
       if (pb.m.basis != MinEnergyBasis::kElastic) {
         throw Error(ErrorCode::kNotConverged,
                     "the data-ball optimizer stopped with a KKT residual of " +
@@ -1603,7 +1660,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     iterations += more.iterations;
     residual = more.residual;
     converged = more.converged;
-    at_precision = !converged && more.stalled && more.residual <= kConditioningResidual;
+    at_precision = stopped_at_precision(more);
   }
   // A ball beside a span on its pair bound (a half turn) is where the optimizer's barrier and
   // the interpolation's active bound part: its stationarity is checked on the interpolation
