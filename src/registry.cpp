@@ -382,11 +382,12 @@ void remember_request(const FitInput& in, const FitOptions& fit_options, FitResu
 
 void remember_points(const FitInput& in, FitResult& out) {
   if (&in == &out.input) return;
-  const bool same = std::equal(in.points.begin(), in.points.end(), out.points.begin(),
-                               out.points.end(), [](Point a, Point b) {
-                                 // bitwise, so that -0.0 and NaN payloads survive a refit
-                                 return std::memcmp(&a, &b, sizeof(Point)) == 0;
-                               });
+  // Bitwise, so that -0.0 and NaN payloads survive a refit; one memcmp of the whole array
+  // (Point is two doubles, no padding).
+  static_assert(sizeof(Point) == 2 * sizeof(double));
+  const bool same = in.points.size() == out.points.size() &&
+                    (in.points.empty() || std::memcmp(in.points.data(), out.points.data(),
+                                                      in.points.size() * sizeof(Point)) == 0);
   if (!same) out.input.points.assign(in.points.begin(), in.points.end());
 }
 

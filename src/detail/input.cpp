@@ -7,6 +7,10 @@
 #include <span>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
 #include "detail/knots.hpp"
@@ -75,6 +79,27 @@ void check_points_slowly(std::span<const Point> pts, std::size_t n, bool closed)
   }
 }
 
+#if defined(__SSE2__)
+// The knot intervals of the spans p0 -> p1 and p1 -> p2 at once, for the exponents whose
+// |d|^alpha is one or two square roots: span_length<K>'s IEEE operations in two SSE2 lanes (the
+// same bits) and half the work of the divide/square-root unit, which bounds this pass. False
+// (nothing written) when a squared length is outside safe_norm's plain range.
+template <AlphaKind K>
+inline bool span_length_pair(Point p0, Point p1, Point p2, double& h0, double& h1) {
+  const __m128d dx = _mm_sub_pd(_mm_set_pd(p2.x, p1.x), _mm_set_pd(p1.x, p0.x));
+  const __m128d dy = _mm_sub_pd(_mm_set_pd(p2.y, p1.y), _mm_set_pd(p1.y, p0.y));
+  const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+  const __m128d in_range =
+      _mm_and_pd(_mm_cmpgt_pd(d2, _mm_set1_pd(1e-290)), _mm_cmplt_pd(d2, _mm_set1_pd(1e290)));
+  if (_mm_movemask_pd(in_range) != 3) return false;
+  __m128d h = _mm_sqrt_pd(d2);
+  if constexpr (K == AlphaKind::kCentripetal) h = _mm_sqrt_pd(h);
+  h0 = _mm_cvtsd_f64(h);
+  h1 = _mm_cvtsd_f64(_mm_unpackhi_pd(h, h));
+  return true;
+}
+#endif
+
 // One pass over the points: finiteness, a cheap repeated-point pre-test, the copy into
 // out.points and (with_knots) the alpha knots. Returns false when a slow check must decide.
 template <AlphaKind K>
@@ -89,7 +114,30 @@ bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double a
   bool suspect = false;
   double t = 0.0;
   if (knots) knots[0] = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  std::size_t i = 0;
+#if defined(__SSE2__)
+  if constexpr (K == AlphaKind::kCentripetal || K == AlphaKind::kChordal) {
+    // Two spans per step while neither wraps around; the scalar loop below does the rest.
+    for (; knots && i + 2 < n && i + 1 < spans; i += 2) {
+      const Point p0 = pts[i], p1 = pts[i + 1], p2 = pts[i + 2];
+      bad |= non_finite_bits(p0) | non_finite_bits(p1);
+      dst[i] = p0;
+      dst[i + 1] = p1;
+      suspect |= maybe_coincident(p0, p1) | maybe_coincident(p1, p2);
+      double h0, h1;
+      if (!span_length_pair<K>(p0, p1, p2, h0, h1)) [[unlikely]] {
+        h0 = span_length<K>(p1 - p0, alpha);
+        h1 = span_length<K>(p2 - p1, alpha);
+      }
+      suspect |= !(h0 > 0.0) | !(h1 > 0.0);
+      t += h0;
+      knots[i + 1] = t;
+      t += h1;
+      knots[i + 2] = t;
+    }
+  }
+#endif
+  for (; i < n; ++i) {
     const Point p = pts[i];
     bad |= non_finite_bits(p);
     dst[i] = p;

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
 #include "detail/input.hpp"
@@ -61,7 +65,10 @@ std::string singular_message(bool closed) {
 
 // Open curve, nothing clamped, w1 > 0 (the common case): assembly fused into the forward sweep
 // of the Thomas algorithm. The matrix is symmetric positive definite, so pivots are positive.
-// Writes the tangents into m (size n); c is scratch.
+// Leaves the eliminated right-hand sides in m and the multipliers in c (both size n): fit_li
+// does the back substitution while it builds the pieces (one pass less over the data).
+// A loop of its own: the sweep is one serial chain through a division per node, and a short
+// loop body lets the out-of-order core run the independent assembly of later nodes alongside.
 void solve_open_free(const LiProblem& pb, std::vector<Vec2>& m, std::vector<double>& c) {
   const std::size_t n = pb.points.size();
   const auto& P = pb.points;
@@ -84,7 +91,6 @@ void solve_open_free(const LiProblem& pb, std::vector<Vec2>& m, std::vector<doub
     m[j] = y_prev;
     prev = next;
   }
-  for (std::size_t j = n - 1; j-- > 0;) m[j] -= c[j] * m[j + 1];
 }
 
 // Open system on nodes 0..N-1 with spans between consecutive nodes (span j: node j -> j+1).
@@ -123,7 +129,8 @@ void solve_open(std::size_t nodes, PointAt&& point_at, SpanAt&& span_h, FixedAt&
   if (!detail::solve_tridiagonal(sub, diag, sup, m, scratch)) throw_singular_numerics();
 }
 
-// Solves for the tangent vectors m (size n) of the problem.
+// Solves for the tangent vectors m (size n) of the problem, except the open system with no
+// fixed tangent and w1 > 0 (solve_open_free and the back substitution in fit_li).
 void solve_tangents(const LiProblem& pb, std::vector<Vec2>& m) {
   const std::size_t n = pb.points.size();
   const auto& P = pb.points;
@@ -132,11 +139,6 @@ void solve_tangents(const LiProblem& pb, std::vector<Vec2>& m) {
     return pb.fixed.empty() ? std::nullopt : pb.fixed[i];
   };
   if (!pb.closed) {
-    if (pb.fixed.empty() && pb.w1 > 0.0) {
-      thread_local std::vector<double> scratch;  // reused across fits on this thread
-      solve_open_free(pb, m, scratch);
-      return;
-    }
     solve_open(
         n, [&](std::size_t j) { return P[j]; }, [&](std::size_t j) { return t[j + 1] - t[j]; },
         fixed_at_point, pb.w1, pb.w2 * pb.h2, m);
@@ -205,6 +207,40 @@ inline Vec2 robust_unit(Vec2 v) {
   return normalized(v);
 }
 
+// a, b divided by their lengths when both squared lengths are in robust_unit's plain range:
+// its first branch, (1 / sqrt(|v|²)) v, for two vectors in SSE2 lanes (same IEEE operations, so
+// the same bits). False (nothing changed) otherwise.
+inline bool unit_pair(Vec2& a, Vec2& b) {
+#if defined(__SSE2__)
+  const __m128d x = _mm_set_pd(b.x, a.x), y = _mm_set_pd(b.y, a.y);
+  const __m128d n2 = _mm_add_pd(_mm_mul_pd(x, x), _mm_mul_pd(y, y));
+  const __m128d in_range =
+      _mm_and_pd(_mm_cmpgt_pd(n2, _mm_set1_pd(1e-290)), _mm_cmplt_pd(n2, _mm_set1_pd(1e290)));
+  if (_mm_movemask_pd(in_range) != 3) return false;
+  const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), _mm_sqrt_pd(n2));
+  const __m128d ux = _mm_mul_pd(inv, x), uy = _mm_mul_pd(inv, y);
+  a = {_mm_cvtsd_f64(ux), _mm_cvtsd_f64(uy)};
+  b = {_mm_cvtsd_f64(_mm_unpackhi_pd(ux, ux)), _mm_cvtsd_f64(_mm_unpackhi_pd(uy, uy))};
+  return true;
+#else
+  (void)a;
+  (void)b;
+  return false;
+#endif
+}
+
+// The unit tangent at node i from its tangent vector m_i outside robust_unit's fast range. A
+// zero derivative (a cusp of the C1 curve) reports the chord direction instead.
+[[gnu::noinline]] Vec2 unit_tangent_slow(std::span<const Point> P, bool closed,
+                                         const std::vector<Vec2>& m, std::size_t i) {
+  const std::size_t n = P.size();
+  if (m[i].x != 0.0 || m[i].y != 0.0) return robust_unit(m[i]);
+  const Vec2 chord = (closed || (i > 0 && i + 1 < n))
+                         ? P[(i + 1) % n] - P[(i + n - 1) % n]
+                         : (i == 0 ? P[1] - P[0] : P[n - 1] - P[n - 2]);
+  return robust_unit(chord);
+}
+
 }  // namespace
 
 namespace {
@@ -229,6 +265,7 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
                     detail::format_number(w1) + ", " + detail::format_number(w2) + ")");
   }
   const std::size_t spans = detail::prepare_input(input, li_capabilities(), "the Li method", out);
+  thread_local std::vector<double> scratch;  // multipliers of the sweep, reused across fits
   LiProblem pb;
   pb.points = out.points;
   pb.knots = out.knots;
@@ -257,42 +294,79 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
     throw Error(ErrorCode::kSingularSystem, singular_message(pb.closed));
   }
 
-  // The tangent vectors m_i are solved into out.tangents, then normalized in place.
+  // The tangent vectors m_i are solved into out.tangents, then normalized in place. The open
+  // free system leaves its back substitution to the pass that builds the pieces.
   std::vector<Vec2>& m = out.tangents;
-  solve_tangents(pb, m);
+  const bool open_free = !pb.closed && pb.fixed.empty() && pb.w1 > 0.0;
+  if (open_free) {
+    solve_open_free(pb, m, scratch);
+  } else {
+    solve_tangents(pb, m);
+  }
 
   out.spline.closed = pb.closed;
   auto& segments = out.spline.segments;
   segments.resize(spans);  // no-op when the result is reused for same-size fits
   Segment* seg = segments.data();
-  double strain = 0.0, third = 0.0;
   std::uint64_t bad = 0;  // non-finite output, checked while the data is in registers
   const auto& P = pb.points;
   const auto& t = pb.knots;
   // m_i becomes the unit tangent as soon as the last piece using it is built (one pass over
-  // the data). A closed curve's last piece uses m_0 again: keep that one raw.
+  // the data). A closed curve's last piece uses m_0 again: keep that one raw. The common case
+  // inline (robust_unit's first branch); zero, tiny, huge or NaN vectors out of line.
   auto to_unit = [&](std::size_t i) {
-    if (m[i].x != 0.0 || m[i].y != 0.0) {
-      m[i] = robust_unit(m[i]);
+    const Vec2 v = m[i];
+    const double n2 = norm2(v);
+    if (n2 > 1e-290 && n2 < 1e290) [[likely]] {
+      m[i] = (1.0 / std::sqrt(n2)) * v;
     } else {
-      // Zero derivative (a cusp of the C1 curve): report the chord direction instead.
-      const Vec2 chord = (pb.closed || (i > 0 && i + 1 < n))
-                             ? P[(i + 1) % n] - P[(i + n - 1) % n]
-                             : (i == 0 ? P[1] - P[0] : P[n - 1] - P[n - 2]);
-      m[i] = robust_unit(chord);
+      m[i] = unit_tangent_slow(P, pb.closed, m, i);
     }
     bad |= detail::non_finite_bits(m[i]);
   };
-  const Vec2 m0 = m[0];
-  for (std::size_t i = 0; i < spans; ++i) {
-    const std::size_t j = (i + 1 == n) ? 0 : i + 1;
-    const Vec2 mi = i == 0 ? m0 : m[i], mj = j == 0 ? m0 : m[j];
-    const double h = t[i + 1] - t[i];
-    const double h3 = h * (1.0 / 3.0);
+  auto piece = [&](std::size_t i, std::size_t j, Vec2 mi, Vec2 mj) {
+    const double h3 = (t[i + 1] - t[i]) * (1.0 / 3.0);
     const Point b1 = P[i] + h3 * mi, b2 = P[j] - h3 * mj;
     bad |= detail::non_finite_bits(b1) | detail::non_finite_bits(b2);
     seg[i] = Segment{CubicBezier{{P[i], b1, b2, P[j]}}, t[i], t[i + 1], i};
-    if (level != ReportLevel::kNone) {
+  };
+  if (open_free) {
+    // Back substitution from the last node down, building piece i as soon as m_i is known.
+    // Two nodes per step, so that their normalizations share the divide/square-root unit's
+    // packed operations (the pass is bound by that unit, not by memory).
+    const double* c = scratch.data();
+    std::size_t i = n - 1;
+    for (; i >= 2; i -= 2) {
+      m[i - 1] -= c[i - 1] * m[i];
+      piece(i - 1, i, m[i - 1], m[i]);
+      m[i - 2] -= c[i - 2] * m[i - 1];
+      piece(i - 2, i - 1, m[i - 2], m[i - 1]);
+      if (!unit_pair(m[i], m[i - 1])) [[unlikely]] {
+        to_unit(i);
+        to_unit(i - 1);
+      } else {
+        bad |= detail::non_finite_bits(m[i]) | detail::non_finite_bits(m[i - 1]);
+      }
+    }
+    for (; i-- > 0;) {
+      m[i] -= c[i] * m[i + 1];
+      piece(i, i + 1, m[i], m[i + 1]);
+      to_unit(i + 1);
+    }
+    to_unit(0);
+  } else {
+    const Vec2 m0 = m[0];
+    for (std::size_t i = 0; i < spans; ++i) {
+      const std::size_t j = (i + 1 == n) ? 0 : i + 1;
+      piece(i, j, i == 0 ? m0 : m[i], j == 0 ? m0 : m[j]);
+      to_unit(i);
+    }
+    if (!pb.closed) to_unit(n - 1);
+  }
+  double strain = 0.0, third = 0.0;
+  if (level != ReportLevel::kNone) {
+    for (std::size_t i = 0; i < spans; ++i) {
+      const double h = t[i + 1] - t[i];
       // From the control points (differences before squares): the expansion in m and
       // delta = dP/h squared coordinates of 1e300 and overflowed where the energy is 0 (found
       // by fuzz_fit). linearized_energy throws kNonFinite if the energy itself overflows.
@@ -305,9 +379,7 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
       const double r = norm(d3) / h / h / std::sqrt(h);
       third += r * r;
     }
-    to_unit(i);
   }
-  if (!pb.closed) to_unit(n - 1);
   // Points were checked by prepare_input; knots are finite there too. Name the culprit.
   if (bad) detail::check_finite_output(out, "the Li method");
   out.method_report = {{"weights", {w1, w2}},
