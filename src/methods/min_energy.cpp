@@ -17,6 +17,7 @@
 
 #include "detail/choices.hpp"
 #include "detail/elastica.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
 #include "detail/numbers.hpp"
@@ -191,29 +192,40 @@ namespace {
 
 /// A double array whose resize keeps no contents and never zero-fills: every user writes each
 /// entry before reading it (the optimizer's work arrays; a memset of them was 5% of a fit).
+/// It can also lend storage of its owner's (use), up to the first larger resize.
 class Scratch {
  public:
   Scratch() = default;
   explicit Scratch(std::size_t n) { resize(n); }
   void resize(std::size_t n) {
     if (n > cap_) {
-      p_ = std::make_unique_for_overwrite<double[]>(n);
+      own_ = std::make_unique_for_overwrite<double[]>(n);
+      detail::advise_huge_pages(own_.get(), n * sizeof(double));
+      p_ = own_.get();
       cap_ = n;
     }
     n_ = n;
   }
+  /// Works in the n doubles at p (which must outlive this use), size 0.
+  void use(double* p, std::size_t n) {
+    own_.reset();
+    p_ = p;
+    cap_ = n;
+    n_ = 0;
+  }
   std::size_t size() const { return n_; }
   double& operator[](std::size_t i) { return p_[i]; }
   double operator[](std::size_t i) const { return p_[i]; }
-  double* begin() { return p_.get(); }
-  double* end() { return p_.get() + n_; }
-  const double* begin() const { return p_.get(); }
-  const double* end() const { return p_.get() + n_; }
-  operator std::span<double>() { return {p_.get(), n_}; }
-  operator std::span<const double>() const { return {p_.get(), n_}; }
+  double* begin() { return p_; }
+  double* end() { return p_ + n_; }
+  const double* begin() const { return p_; }
+  const double* end() const { return p_ + n_; }
+  operator std::span<double>() { return {p_, n_}; }
+  operator std::span<const double>() const { return {p_, n_}; }
 
  private:
-  std::unique_ptr<double[]> p_;
+  std::unique_ptr<double[]> own_;
+  double* p_ = nullptr;  // own_ or lent storage
   std::size_t n_ = 0, cap_ = 0;
 };
 
@@ -713,9 +725,23 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const BasicCurveMethod& m = opt.method;
   const std::size_t k = ch.node.size();
   const bool cyclic = ch.closed;
+  // One block for the arrays every iteration writes, so that it spans whole huge pages (at 10^5
+  // nodes each array alone is under the 2 MiB of one, and their fresh 4 KiB pages were faulted
+  // in at every fit).
+  Scratch block(10 * k);
   Evaluation ev, trial;
-  Scratch dir(k), dd, ee, work;
-  std::vector<double> xn(k);  // swapped with ch.x
+  Scratch dir, dd, ee, work;
+  {
+    double* p = block.begin();
+    for (Scratch* a : {&ev.g, &ev.d, &ev.e, &trial.g, &trial.d, &trial.e, &dir}) {
+      a->use(p, k);
+      p += k;
+    }
+    work.use(p, 3 * k);  // ldl_solve's 3k (closed chains), the open solve's 2k
+  }
+  dir.resize(k);
+  std::vector<double> xn;  // swapped with ch.x
+  detail::resize_huge(xn, k);
   ChainResult res;
   const double tol = opt.tolerance;  // on the scaled projected gradient (dimensionless)
   double energy = evaluate(ch, m, ch.x, true, ev);
@@ -1671,8 +1697,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   const std::size_t n = P.size();
   const bool closed = out.closed;
   const std::size_t segs = closed ? n : n - 1;
-  std::vector<Vec2> unit(segs);  // unit chords
-  std::vector<double> len(segs);
+  std::vector<Vec2> unit;  // unit chords
+  std::vector<double> len;
+  detail::resize_huge(unit, segs);
+  detail::resize_huge(len, segs);
   for (std::size_t s = 0; s < segs; ++s) {
     const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
     const double l2 = c.x * c.x + c.y * c.y;  // sqrt is much cheaper than hypot; hypot only
@@ -1699,7 +1727,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
     Chain ch;
     ch.closed = cyclic;
-    ch.node.resize(count);
+    detail::resize_huge(ch.node, count);
     for (std::size_t k = 0, i = first % n; k < count; ++k, i = i + 1 == n ? 0 : i + 1) {
       ch.node[k] = i;
     }
@@ -1731,19 +1759,19 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   };
   for (Chain& ch : chains) {
     const std::size_t k = ch.node.size(), nseg = ch.segments();
-    ch.ref.resize(k);
-    ch.ca.resize(k);
-    ch.sa.resize(k);
-    ch.cb.resize(k);
-    ch.sb.resize(k);
-    ch.a.resize(k);
-    ch.b.resize(k);
-    ch.lo.resize(k);
-    ch.hi.resize(k);
-    ch.x.assign(k, 0.0);
-    ch.fixed.assign(k, 0);
-    ch.corner.assign(k, 0.0);
-    ch.w.resize(nseg);
+    detail::resize_huge(ch.ref, k);
+    detail::resize_huge(ch.ca, k);
+    detail::resize_huge(ch.sa, k);
+    detail::resize_huge(ch.cb, k);
+    detail::resize_huge(ch.sb, k);
+    detail::resize_huge(ch.a, k);
+    detail::resize_huge(ch.b, k);
+    detail::resize_huge(ch.lo, k);
+    detail::resize_huge(ch.hi, k);
+    detail::assign_huge(ch.x, k, 0.0);
+    detail::assign_huge(ch.fixed, k, char{0});
+    detail::assign_huge(ch.corner, k, 0.0);
+    detail::resize_huge(ch.w, nseg);
     // Segment s of the chain runs from node s to node s+1 (cyclic).
     auto seg_of = [&](std::size_t s) { return ch.node[s]; };  // input segment index
     for (std::size_t s = 0; s < nseg; ++s) ch.w[s] = 1.0 / len[seg_of(s)];
@@ -2173,8 +2201,8 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   // The result's Béziers and tangents only now, when the optimizer's work arrays are gone (a
   // long fit held both at once: its peak memory).
   out.spline.closed = out.closed;
-  out.spline.segments.resize(segs);
-  out.tangents.resize(n);
+  detail::resize_huge(out.spline.segments, segs);
+  detail::resize_huge(out.tangents, n);
   for (const Chain& ch : chains) {
     const std::size_t k = ch.node.size();
     // Node t's incoming direction (that of its variable); its outgoing one is the tangent.
