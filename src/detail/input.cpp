@@ -13,6 +13,7 @@
 
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/knots.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
@@ -106,8 +107,8 @@ template <AlphaKind K>
 bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double alpha,
                 bool with_knots, FitResult& out) {
   const std::size_t spans = closed ? n : n - 1;
-  out.points.resize(n);
-  if (with_knots) out.knots.resize(spans + 1);
+  resize_huge(out.points, n);
+  if (with_knots) resize_huge(out.knots, spans + 1);
   Point* dst = out.points.data();
   double* knots = with_knots ? out.knots.data() : nullptr;
   std::uint64_t bad = 0;

@@ -17,6 +17,7 @@
 
 #include "detail/choices.hpp"
 #include "detail/elastica.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
 #include "detail/numbers.hpp"
@@ -191,29 +192,40 @@ namespace {
 
 /// A double array whose resize keeps no contents and never zero-fills: every user writes each
 /// entry before reading it (the optimizer's work arrays; a memset of them was 5% of a fit).
+/// It can also lend storage of its owner's (use), up to the first larger resize.
 class Scratch {
  public:
   Scratch() = default;
   explicit Scratch(std::size_t n) { resize(n); }
   void resize(std::size_t n) {
     if (n > cap_) {
-      p_ = std::make_unique_for_overwrite<double[]>(n);
+      own_ = std::make_unique_for_overwrite<double[]>(n);
+      detail::advise_huge_pages(own_.get(), n * sizeof(double));
+      p_ = own_.get();
       cap_ = n;
     }
     n_ = n;
   }
+  /// Works in the n doubles at p (which must outlive this use), size 0.
+  void use(double* p, std::size_t n) {
+    own_.reset();
+    p_ = p;
+    cap_ = n;
+    n_ = 0;
+  }
   std::size_t size() const { return n_; }
   double& operator[](std::size_t i) { return p_[i]; }
   double operator[](std::size_t i) const { return p_[i]; }
-  double* begin() { return p_.get(); }
-  double* end() { return p_.get() + n_; }
-  const double* begin() const { return p_.get(); }
-  const double* end() const { return p_.get() + n_; }
-  operator std::span<double>() { return {p_.get(), n_}; }
-  operator std::span<const double>() const { return {p_.get(), n_}; }
+  double* begin() { return p_; }
+  double* end() { return p_ + n_; }
+  const double* begin() const { return p_; }
+  const double* end() const { return p_ + n_; }
+  operator std::span<double>() { return {p_, n_}; }
+  operator std::span<const double>() const { return {p_, n_}; }
 
  private:
-  std::unique_ptr<double[]> p_;
+  std::unique_ptr<double[]> own_;
+  double* p_ = nullptr;  // own_ or lent storage
   std::size_t n_ = 0, cap_ = 0;
 };
 
@@ -304,22 +316,38 @@ inline void sincos_small(double x, double& sn, double& cn) {
   sincos_poly(x, sn, cn);
 }
 
-/// cos and sin of every x[i] into cs[2i], cs[2i+1]: the polynomial over all entries in a
-/// branch-free loop (the compiler vectorizes it; the branch of sincos_small kept it scalar, 13%
-/// of a fit), then libm for the rare entries outside its range. Same values as sincos_small.
-void sincos_all(std::span<const double> x, double* cs) {
-  const std::size_t k = x.size();
-  for (std::size_t i = 0; i < k; ++i) sincos_poly(x[i], cs[2 * i + 1], cs[2 * i]);
-  for (std::size_t i = 0; i < k; ++i) {
-    if (!(std::abs(x[i]) <= 1.6)) ::sincos(x[i], &cs[2 * i + 1], &cs[2 * i]);
+/// Segments per block of an evaluation: the cos and sin of a block's nodes live on the stack
+/// (an array of 2k of them was 16 bytes a node and a pass over memory per evaluation).
+constexpr std::size_t kEvalBlock = 256;
+
+/// cos and sin of x at the chain nodes first, first + 1, … (count of them, cyclic in k) into
+/// cs[2q], cs[2q+1]: the polynomial over all entries in a branch-free loop (the compiler
+/// vectorizes it; the branch of sincos_small kept it scalar, 13% of a fit), then libm for the
+/// rare entries outside its range. Same values as sincos_small.
+void sincos_block(std::span<const double> x, std::size_t first, std::size_t count, double* cs) {
+  const std::size_t k = x.size(), direct = std::min(count, k - first);
+  const double* xf = x.data() + first;
+  for (std::size_t q = 0; q < direct; ++q) sincos_poly(xf[q], cs[2 * q + 1], cs[2 * q]);
+  for (std::size_t q = direct; q < count; ++q) {  // past the end of a closed chain: node 0, …
+    sincos_poly(x[q - direct], cs[2 * q + 1], cs[2 * q]);
+  }
+  for (std::size_t q = 0; q < count; ++q) {
+    const double v = q < direct ? xf[q] : x[q - direct];
+    if (!(std::abs(v) <= 1.6)) ::sincos(v, &cs[2 * q + 1], &cs[2 * q]);
   }
 }
 
+/// No per-block preparation (the elastic bases read the angles directly).
+struct NoBlock {
+  void operator()(std::size_t, std::size_t) const {}
+};
+
 /// Energy (and, with kDerivatives, gradient and tridiagonal Hessian; with kProjected also
 /// its PSD-projected form and the concave flags) of a chain at x, with the basic energy of
-/// segment s from node i to j, `energy(s, i, j)`, inlined into the loop.
-template <bool kDerivatives, bool kProjected, typename Energy>
-double evaluate_with(const Chain& ch, Evaluation& ev, Energy energy) {
+/// segment s from node i to j, `energy(s, i, j)`, inlined into the loop; `block(first, last)`
+/// runs before the segments first … last − 1 (at most kEvalBlock of them).
+template <bool kDerivatives, bool kProjected, typename Energy, typename Block = NoBlock>
+double evaluate_with(const Chain& ch, Evaluation& ev, Energy energy, Block block = {}) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
   if constexpr (kDerivatives) {
     // Every entry is written by the segment that ends at its node (node 0 of an open chain has
@@ -338,32 +366,36 @@ double evaluate_with(const Chain& ch, Evaluation& ev, Energy energy) {
     }
   }
   double total = 0.0;
-  for (std::size_t s = 0; s < segs; ++s) {
-    const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
-    const BasicEnergy be = energy(s, i, j);
-    const double w = ch.w[s];
-    total += w * be.e;
-    if constexpr (kDerivatives) {
-      ev.g[i] += w * be.ea;
-      ev.d[i] += w * be.eaa;
-      if (j == 0) {  // the closing segment of a closed chain
-        ev.g[0] += w * be.eb;
-        ev.d[0] += w * be.ebb;
-      } else {
-        ev.g[j] = w * be.eb;
-        ev.d[j] = w * be.ebb;
-      }
-      ev.e[s] = w * be.eab;  // couples i and j (s = k−1: the corner of a closed chain)
-      if constexpr (kProjected) {
-        double haa = w * be.eaa, hab = w * be.eab, hbb = w * be.ebb;
-        if (psd_block(haa, hab, hbb)) ev.concave[i] = ev.concave[j] = 1;
-        ev.pd[i] += haa;
-        if (j == 0) {
-          ev.pd[0] += hbb;
+  for (std::size_t first = 0; first < segs; first += kEvalBlock) {
+    const std::size_t last = std::min(first + kEvalBlock, segs);
+    block(first, last);
+    for (std::size_t s = first; s < last; ++s) {
+      const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+      const BasicEnergy be = energy(s, i, j);
+      const double w = ch.w[s];
+      total += w * be.e;
+      if constexpr (kDerivatives) {
+        ev.g[i] += w * be.ea;
+        ev.d[i] += w * be.eaa;
+        if (j == 0) {  // the closing segment of a closed chain
+          ev.g[0] += w * be.eb;
+          ev.d[0] += w * be.ebb;
         } else {
-          ev.pd[j] = hbb;
+          ev.g[j] = w * be.eb;
+          ev.d[j] = w * be.ebb;
         }
-        ev.pe[s] = hab;
+        ev.e[s] = w * be.eab;  // couples i and j (s = k−1: the corner of a closed chain)
+        if constexpr (kProjected) {
+          double haa = w * be.eaa, hab = w * be.eab, hbb = w * be.ebb;
+          if (psd_block(haa, hab, hbb)) ev.concave[i] = ev.concave[j] = 1;
+          ev.pd[i] += haa;
+          if (j == 0) {
+            ev.pd[0] += hbb;
+          } else {
+            ev.pd[j] = hbb;
+          }
+          ev.pe[s] = hab;
+        }
       }
     }
   }
@@ -380,11 +412,7 @@ BasicEnergy elastic_energy(double a, double b, detail::ElasticaHint& hint) {
 }
 
 double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const double> x,
-                bool derivatives, Evaluation& ev, Scratch& cs) {
-  auto run = [&](auto energy) {
-    return derivatives ? evaluate_with<true, false>(ch, ev, energy)
-                       : evaluate_with<false, false>(ch, ev, energy);
-  };
+                bool derivatives, Evaluation& ev) {
   if (is_elastic(m.basis)) {
     // Angles added directly (the elastica works with angles: no sin/cos round trip), and each
     // segment's root-find starts from its last solve.
@@ -395,15 +423,25 @@ double evaluate(const Chain& ch, const BasicCurveMethod& m, std::span<const doub
     return derivatives ? evaluate_with<true, true>(ch, ev, energy)
                        : evaluate_with<false, true>(ch, ev, energy);
   }
-  const std::size_t k = ch.node.size();
-  cs.resize(2 * k);
-  sincos_all(x, cs.begin());
+  // cos, sin of x at the nodes first … last of the current block (segment s joins the nodes
+  // at s − first and s − first + 1).
+  double cs[2 * (kEvalBlock + 1)];
+  std::size_t base = 0;
+  auto block = [&](std::size_t first, std::size_t last) {
+    base = first;
+    sincos_block(x, first, last - first + 1, cs);
+  };
   // α = x_i + a_i, β = x_j + b_j by the angle-addition formulas.
   auto cos_sin = [&](std::size_t i, std::size_t j, auto basic) {
-    const double cx = cs[2 * i], sx = cs[2 * i + 1], cy = cs[2 * j], sy = cs[2 * j + 1];
+    const std::size_t q = 2 * (i - base);
+    const double cx = cs[q], sx = cs[q + 1], cy = cs[q + 2], sy = cs[q + 3];
     const double ca = cx * ch.ca[i] - sx * ch.sa[i], sa = sx * ch.ca[i] + cx * ch.sa[i];
     const double cb = cy * ch.cb[j] - sy * ch.sb[j], sb = sy * ch.cb[j] + cy * ch.sb[j];
     return basic(ca, sa, cb, sb);
+  };
+  auto run = [&](auto energy) {
+    return derivatives ? evaluate_with<true, false>(ch, ev, energy, block)
+                       : evaluate_with<false, false>(ch, ev, energy, block);
   };
   if (m.basis == MinEnergyBasis::kCondG2) {
     const double l = m.lambda;
@@ -638,13 +676,19 @@ Chain window_chain(const Chain& ch, std::size_t first, std::size_t count) {
 /// there are few of them (at most k/128); returns whether any was solved (the caller then
 /// re-evaluates). `v`: each node's projected residual.
 bool solve_windows(Chain& ch, const MinEnergyOptions& opt, double gscale,
-                   const std::vector<double>& v) {
+                   std::span<const double> g) {
   const std::size_t k = ch.node.size();
+  // Counted before they are listed: early on every node is above the tolerance, and listing
+  // them all was a vector of k indices per iteration (and its growth, at the fit's peak memory).
+  auto above = [&](std::size_t i) { return node_residual(ch, g, gscale, i) > opt.tolerance; };
+  std::size_t n_above = 0;
+  for (std::size_t i = 0; i < k; ++i) n_above += above(i);
+  if (n_above == 0 || n_above > k / 128) return false;
   std::vector<std::size_t> bad;
+  bad.reserve(n_above);
   for (std::size_t i = 0; i < k; ++i) {
-    if (v[i] > opt.tolerance) bad.push_back(i);
+    if (above(i)) bad.push_back(i);
   }
-  if (bad.empty() || bad.size() > k / 128) return false;
   // Windows [lo, hi], merged; a closed chain's in indices shifted by k (no wrap below 0).
   std::vector<std::pair<std::size_t, std::size_t>> windows;
   for (std::size_t i : bad) {
@@ -681,12 +725,26 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   const BasicCurveMethod& m = opt.method;
   const std::size_t k = ch.node.size();
   const bool cyclic = ch.closed;
+  // One block for the arrays every iteration writes, so that it spans whole huge pages (at 10^5
+  // nodes each array alone is under the 2 MiB of one, and their fresh 4 KiB pages were faulted
+  // in at every fit).
+  Scratch block(10 * k);
   Evaluation ev, trial;
-  Scratch cs, dir(k), dd, ee, work;
-  std::vector<double> xn(k);  // swapped with ch.x
+  Scratch dir, dd, ee, work;
+  {
+    double* p = block.begin();
+    for (Scratch* a : {&ev.g, &ev.d, &ev.e, &trial.g, &trial.d, &trial.e, &dir}) {
+      a->use(p, k);
+      p += k;
+    }
+    work.use(p, 3 * k);  // ldl_solve's 3k (closed chains), the open solve's 2k
+  }
+  dir.resize(k);
+  std::vector<double> xn;  // swapped with ch.x
+  detail::resize_huge(xn, k);
   ChainResult res;
   const double tol = opt.tolerance;  // on the scaled projected gradient (dimensionless)
-  double energy = evaluate(ch, m, ch.x, true, ev, cs);
+  double energy = evaluate(ch, m, ch.x, true, ev);
   // Size of the rounding in a computed total energy: cond-G2's E_1 cancels terms of size
   // 6λ² + 12λ + 6 per unit chord; the other bases' sine forms do not cancel.
   double wsum = 0.0;
@@ -731,14 +789,13 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
         const double fi = !creep || dir[i] * last_dir[i] > 0.0 ? f : 1.0;
         xe[i] = std::clamp(ch.x[i] + fi * dir[i], ch.lo[i], ch.hi[i]);
       }
-      const double e = evaluate(ch, m, xe, true, further, cs);
+      const double e = evaluate(ch, m, xe, true, further);
       if (!(e < en)) return;
       en = e;
       xn.swap(xe);
       std::swap(trial, further);
     }
   };
-  std::vector<double> residual;
   bool windows_last = false;
   // Elastic bases: consecutive full steps whose predicted decrease was within the rounding of
   // the total energy. Three, with the residual below kElasticPrecision, is the optimum to double
@@ -759,15 +816,11 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     if (res.iterations == opt.max_iterations) break;
     // Windows at most every other iteration: a global Newton step joins them up.
     if (k >= kWindowMinNodes && !windows_last) {
-      residual.resize(k);
-      for (std::size_t i = 0; i < k; ++i) {
-        residual[i] = node_residual(ch, ev.g, gscale, i);
-      }
-      if (solve_windows(ch, opt, gscale, residual)) {
+      if (solve_windows(ch, opt, gscale, ev.g)) {
         windows_last = true;
         flat = 0;
         ++res.window_passes;
-        energy = evaluate(ch, m, ch.x, true, ev, cs);
+        energy = evaluate(ch, m, ch.x, true, ev);
         continue;
       }
     }
@@ -867,7 +920,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     for (double step = 1.0; step > 1e-12; step *= 0.5) {
       const double decrease = project_step(ch, dir, step, ev.g, xn);
       // The full step is evaluated with derivatives (it is usually accepted: Newton).
-      double en = evaluate(ch, m, xn, step == 1.0, trial, cs);
+      double en = evaluate(ch, m, xn, step == 1.0, trial);
       // Armijo; near the optimum the decrease falls below the rounding of the total, so a full
       // Newton step that does not raise the energy beyond that rounding is taken too, but only
       // when the decrease it predicts is itself within that rounding: a step predicting more
@@ -886,14 +939,14 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
           std::swap(ev, trial);
           energy = en;
         } else {
-          energy = evaluate(ch, m, ch.x, true, ev, cs);
+          energy = evaluate(ch, m, ch.x, true, ev);
         }
         accepted = true;
         break;
       }
     }
     if (accepted && is_elastic(m.basis) && corner_moves(ch, dir, ev.concave)) {
-      energy = evaluate(ch, m, ch.x, true, ev, cs);
+      energy = evaluate(ch, m, ch.x, true, ev);
     }
     if (!accepted) {
       // Newton direction useless here: one projected steepest-descent step.
@@ -905,10 +958,10 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       for (double step = 1.0 / std::max(dmax, 1e-300); step > 1e-30; step *= 0.5) {
         const double decrease = project_step(ch, dir, step, ev.g, xn);
         if (!(decrease < 0.0)) break;
-        const double en = evaluate(ch, m, xn, false, trial, cs);
+        const double en = evaluate(ch, m, xn, false, trial);
         if (en <= energy + 1e-4 * decrease) {
           ch.x.swap(xn);
-          energy = evaluate(ch, m, ch.x, true, ev, cs);
+          energy = evaluate(ch, m, ch.x, true, ev);
           accepted = true;
           break;
         }
@@ -1099,7 +1152,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   const BasicCurveMethod& m = opt.method;
   const std::size_t k = ch.node.size(), segs = ch.segments();
   Evaluation ev, trial;
-  Scratch cs, work;
+  Scratch work;
   std::vector<double> xn(k), dir(k), dd, ee, rhs, stop;
   std::vector<std::size_t> stop_node;
   std::vector<signed char> box(k, 0), link(segs, 0);
@@ -1140,7 +1193,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   lock_ridges();
   // Every fresh evaluation gets the ridges' mean derivatives.
   auto refresh = [&] {
-    const double e = evaluate(ch, m, ch.x, true, ev, cs);
+    const double e = evaluate(ch, m, ch.x, true, ev);
     apply_ridges(ch, link, ev, half_jump);
     return e;
   };
@@ -1469,7 +1522,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
         xn[t] = std::clamp(ch.x[t] + dx, ch.lo[t], ch.hi[t]);
       }
       if (!(predicted < 0.0)) continue;
-      const double en = evaluate(ch, m, xn, true, trial, cs);
+      const double en = evaluate(ch, m, xn, true, trial);
       const bool within = step == 1.0 && -predicted <= rounding && en <= energy + rounding;
       if (en <= energy + 1e-4 * predicted || (step == 1.0 && en <= energy) || within) {
         ch.x.swap(xn);
@@ -1644,8 +1697,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   const std::size_t n = P.size();
   const bool closed = out.closed;
   const std::size_t segs = closed ? n : n - 1;
-  std::vector<Vec2> unit(segs);  // unit chords
-  std::vector<double> len(segs);
+  std::vector<Vec2> unit;  // unit chords
+  std::vector<double> len;
+  detail::resize_huge(unit, segs);
+  detail::resize_huge(len, segs);
   for (std::size_t s = 0; s < segs; ++s) {
     const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
     const double l2 = c.x * c.x + c.y * c.y;  // sqrt is much cheaper than hypot; hypot only
@@ -1672,7 +1727,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
     Chain ch;
     ch.closed = cyclic;
-    ch.node.resize(count);
+    detail::resize_huge(ch.node, count);
     for (std::size_t k = 0, i = first % n; k < count; ++k, i = i + 1 == n ? 0 : i + 1) {
       ch.node[k] = i;
     }
@@ -1704,19 +1759,19 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   };
   for (Chain& ch : chains) {
     const std::size_t k = ch.node.size(), nseg = ch.segments();
-    ch.ref.resize(k);
-    ch.ca.resize(k);
-    ch.sa.resize(k);
-    ch.cb.resize(k);
-    ch.sb.resize(k);
-    ch.a.resize(k);
-    ch.b.resize(k);
-    ch.lo.resize(k);
-    ch.hi.resize(k);
-    ch.x.assign(k, 0.0);
-    ch.fixed.assign(k, 0);
-    ch.corner.assign(k, 0.0);
-    ch.w.resize(nseg);
+    detail::resize_huge(ch.ref, k);
+    detail::resize_huge(ch.ca, k);
+    detail::resize_huge(ch.sa, k);
+    detail::resize_huge(ch.cb, k);
+    detail::resize_huge(ch.sb, k);
+    detail::resize_huge(ch.a, k);
+    detail::resize_huge(ch.b, k);
+    detail::resize_huge(ch.lo, k);
+    detail::resize_huge(ch.hi, k);
+    detail::assign_huge(ch.x, k, 0.0);
+    detail::assign_huge(ch.fixed, k, char{0});
+    detail::assign_huge(ch.corner, k, 0.0);
+    detail::resize_huge(ch.w, nseg);
     // Segment s of the chain runs from node s to node s+1 (cyclic).
     auto seg_of = [&](std::size_t s) { return ch.node[s]; };  // input segment index
     for (std::size_t s = 0; s < nseg; ++s) ch.w[s] = 1.0 / len[seg_of(s)];
@@ -1882,7 +1937,7 @@ void start_from(const detail::SpanDirections& warm, std::size_t n, std::vector<C
 /// approximation (its error is cubic in the angles), where the bisectors (x = 0) are only
 /// zeroth-order, and saves Newton iterations (docs/methods/min-energy.md, "Performance").
 /// The model is convex only for λ < 3/2; otherwise, or if the solve fails, x stays 0.
-void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale, Scratch& work) {
+void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale) {
   const double p = 6.0 * m.lambda - 2.0 * m.lambda * m.lambda, q = 2.0 * m.lambda * m.lambda;
   if (m.basis != MinEnergyBasis::kCondG2 || !(p > q)) return;
   const std::size_t k = ch.node.size(), segs = ch.segments();
@@ -1914,6 +1969,7 @@ void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale, Scratc
     if (i > 0 || ch.closed) e[i == 0 ? k - 1 : i - 1] = 0.0;
   }
   if (!ch.closed) e[k - 1] = 0.0;
+  Scratch work;
   if (!ldl_solve(d, e, ch.closed, rhs, work)) return;
   for (std::size_t i = 0; i < k; ++i) {
     if (!std::isfinite(rhs[i])) return;
@@ -1921,6 +1977,15 @@ void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale, Scratc
   for (std::size_t i = 0; i < k; ++i) {
     if (!ch.fixed[i]) ch.x[i] = std::clamp(rhs[i], ch.lo[i], ch.hi[i]);
   }
+}
+
+/// Frees what only the optimizer reads, once a chain's directions are final: the output needs
+/// the nodes, their directions (ref, x, corner), the weights and the elastic hints.
+void release_solver_arrays(Chain& ch) {
+  for (std::vector<double>* v : {&ch.ca, &ch.sa, &ch.cb, &ch.sb, &ch.lo, &ch.hi, &ch.a, &ch.b}) {
+    std::vector<double>().swap(*v);
+  }
+  std::vector<char>().swap(ch.fixed);
 }
 
 /// The exact elastic piece of one span and its Béziers within accuracy·|p1 − p0| (at least
@@ -2081,11 +2146,6 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   bool converged = true, at_precision = false;
   rep.pieces = static_cast<int>(chains.size());
   const std::size_t segs = out.closed ? n : n - 1;
-  out.spline.closed = out.closed;
-  out.spline.segments.resize(segs);
-  out.tangents.resize(n);
-  std::vector<Vec2> u;  // unit incoming direction per chain node
-  Scratch start_work;
   // Elastic bases: the Béziers' tolerance, relative to the data's size.
   double tolerance = 0.0;
   if (elastic) {
@@ -2103,7 +2163,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     double gscale = 0.0;
     for (double w : ch.w) gscale = std::max(gscale, w);
     if (!warm && options.search == MinEnergySearch::kNewton) {
-      start_quadratic(ch, m, gscale, start_work);
+      start_quadratic(ch, m, gscale);
     }
     const ChainResult r = m.basis == MinEnergyBasis::kElastic
                               ? optimize_elastic(ch, options, gscale)
@@ -2130,34 +2190,35 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
                       sci(options.tolerance),
                   ch.node[r.worst]);
     }
-    const std::size_t k = ch.node.size();
-    u.resize(k);
-    for (std::size_t t = 0; t < k; ++t) {
+    for (std::size_t t = 0; t < ch.node.size(); ++t) {
       const double x = ch.x[t];
       if (!ch.fixed[t] && (x <= ch.lo[t] + 1e-12 || x >= ch.hi[t] - 1e-12)) {
         rep.active.push_back(ch.node[t]);
       }
-      double sx, cx;
-      sincos_small(x, sx, cx);
-      u[t] = {ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
-      const Vec2 uout = ch.corner[t] == 0.0 ? u[t] : rotate(u[t], ch.corner[t]);
-      // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
-      if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
-        out.tangents[ch.node[t]] = uout;
-      }
     }
-    // Each segment's cubic from the unit directions: cos/sin of α, β against the chord.
-    for (std::size_t s = 0; s < ch.segments(); ++s) {
-      const std::size_t i = s, j = s + 1 == k ? 0 : s + 1;
+    release_solver_arrays(ch);
+  }
+  // The result's Béziers and tangents only now, when the optimizer's work arrays are gone (a
+  // long fit held both at once: its peak memory).
+  out.spline.closed = out.closed;
+  detail::resize_huge(out.spline.segments, segs);
+  detail::resize_huge(out.tangents, n);
+  for (const Chain& ch : chains) {
+    const std::size_t k = ch.node.size();
+    // Node t's incoming direction (that of its variable); its outgoing one is the tangent.
+    auto incoming = [&](std::size_t t) {
+      double sx, cx;
+      sincos_small(ch.x[t], sx, cx);
+      return Vec2{ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
+    };
+    // Segment s's cubic from its nodes' unit directions: cos/sin of α, β against the chord.
+    auto write_segment = [&](std::size_t s, Vec2 uout, Vec2 uj) {
       const std::size_t seg = ch.node[s];
       const Point p0 = out.points[seg], p1 = out.points[seg + 1 == n ? 0 : seg + 1];
       const double L = 1.0 / ch.w[s];
       const Vec2 c = (p1 - p0) * ch.w[s];
-      // Node i starts a segment: its outgoing direction is the tangent written above (no
-      // second per-node array).
-      const Vec2 uout = out.tangents[ch.node[i]];
-      const double ca = dot(uout, c), sa = cross(c, uout), cb = dot(u[j], c), sb = cross(c, u[j]);
-      if (dirs) (*dirs)[seg] = {uout, u[j]};
+      const double ca = dot(uout, c), sa = cross(c, uout), cb = dot(uj, c), sb = cross(c, uj);
+      if (dirs) (*dirs)[seg] = {uout, uj};
       if (elastic) {
         // Relative to the chord; data too large for a finite diagonal: the accuracy itself.
         double relative = tolerance / norm(p1 - p0);
@@ -2171,16 +2232,30 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
             std::abs(rep.spans[seg].alpha - rep.spans[seg].beta) >= kPi * (1.0 - 1e-9)) {
           rep.active_spans.push_back(seg);
         }
-        continue;
+        return;
       }
       rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
       const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
       out.spline.segments[seg] = {
-          {{p0, p0 + (L * sp.s0 / 3.0) * uout, p1 - (L * sp.s1 / 3.0) * u[j], p1}},
+          {{p0, p0 + (L * sp.s0 / 3.0) * uout, p1 - (L * sp.s1 / 3.0) * uj, p1}},
           out.knots[seg],
           out.knots[seg + 1],
           seg};
+    };
+    // One pass: segment t − 1 once node t's direction is known (the closing one at the end).
+    const Vec2 u0 = incoming(0);
+    Vec2 prev_out;
+    for (std::size_t t = 0; t < k; ++t) {
+      const Vec2 ut = t == 0 ? u0 : incoming(t);
+      const Vec2 uout = ch.corner[t] == 0.0 ? ut : rotate(ut, ch.corner[t]);
+      // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
+      if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
+        out.tangents[ch.node[t]] = uout;
+      }
+      if (t > 0) write_segment(t - 1, prev_out, ut);
+      prev_out = uout;
     }
+    if (ch.closed) write_segment(k - 1, prev_out, u0);
   }
   std::sort(rep.active.begin(), rep.active.end());
   if (elastic) assemble_spans(span_pieces, out);
@@ -2229,11 +2304,10 @@ MinEnergyReference min_energy_reference(const FitInput& input, const MinEnergyOp
   MinEnergyReference ref;
   ref.angles.assign(out.points.size(), 0.0);
   Evaluation ev;
-  Scratch cs;
   for (Chain& ch : chains) {
     coordinate_search(ch, m, 10);
     const std::size_t k = ch.node.size();
-    ref.energy += evaluate(ch, m, ch.x, false, ev, cs);
+    ref.energy += evaluate(ch, m, ch.x, false, ev);
     for (std::size_t t = 0; t < k; ++t) {  // outgoing direction at corners, as fit_min_energy
       if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == out.points.size() - 1)) {
         const Vec2 r = ch.ref[t];
