@@ -683,7 +683,11 @@ class Solver {
     };
     damping_ = 0.0;
     for (;; ++o.iterations) {
-      if (mu == 0.0 && (o.iterations == 0 || shift_ > 0.0)) polish(mu, target);
+      // (Not for the elastic energies: root-found, the polish's line searches cost ten times
+      // the fit on U-turn data; restricted-elastic gained 221 -> 194 failures in 2000.)
+      if (mu == 0.0 && (o.iterations == 0 || shift_ > 0.0) && !is_elastic(pb_.m.basis)) {
+        polish(mu, target);
+      }
       std::size_t border = number_unknowns(pb_, scale_);
       double phi = evaluate(mu, border);
       double pg = 0.0, wrong = 0.0;
