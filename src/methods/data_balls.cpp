@@ -950,8 +950,9 @@ class Solver {
       const Node& nd = pb_.node[i];
       const double over = std::max(1.0, floor_[i] / tol_);
       const double f = gscale_ / local_[i] / over;
-      const double before = std::max(pg, wrong);
+      double here = 0.0;  // this node's largest residual, over its floor
       auto see = [&](int v) {
+        if (v >= 0) here = std::max(here, f * std::abs(g_[v]));
         if (v >= 0 && f * std::abs(g_[v]) > pg) {
           pg = f * std::abs(g_[v]);
           pg_at = i;
@@ -967,6 +968,7 @@ class Solver {
       for (int s : {nd.in, nd.out}) {
         if (s < 0 || pb_.slot[s].active < 0) continue;
         slot_wrong_[s] = std::max(slot_wrong_[s], f * pb_.slot[s].sign * raw_.slot[s]);
+        here = std::max(here, slot_wrong_[s]);
         if (slot_wrong_[s] > wrong) {
           wrong = slot_wrong_[s];
           wrong_at = i;
@@ -974,12 +976,13 @@ class Solver {
       }
       if (nd.boundary) {
         node_wrong_[i] = f * outward(i);
+        here = std::max(here, node_wrong_[i]);
         if (node_wrong_[i] > wrong) {
           wrong = node_wrong_[i];
           wrong_at = i;
         }
       }
-      if (std::max(pg, wrong) > before) raw = std::max(raw, std::max(pg, wrong) * over / gscale_);
+      raw = std::max(raw, here * over / gscale_);
     }
     raw_residual_ = raw;
   }
