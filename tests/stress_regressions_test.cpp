@@ -76,8 +76,10 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s18-m60-c10362.json",
     "kozak-krajnc-not_converged-s18-m60-c3050.json",
     "kozak-krajnc-not_converged-s18-m60-c5065.json",
+    "quasi-elastic-balls-kkt-s19-c1088.json",
     "quasi-elastic-balls-not_converged-s19-c1346.json",
     "quasi-elastic-balls-not_converged-s19-c1401.json",
+    "quasi-elastic-balls-not_converged-s19-c914.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
     "restricted-elastic-not_converged-s18-c130322.json",
@@ -113,6 +115,12 @@ const std::set<std::string> kOpen = {
     // Data balls (issue 19): linear convergence at the iteration cap, 8e-8 above the tolerance
     // (docs/hardening.md, "Data balls").
     "restricted-elastic-balls-not_converged-s19-c419.json",
+    // Data balls: a free direction squeezed between its two bounds (its chords turn by 2Ω to
+    // 1e-12) blocks every step that would turn them further; residual 1.1 (docs/hardening.md).
+    "quasi-elastic-balls-not_converged-s19-c914.json",
+    // Data balls: was a false optimum (a held barrier 1e6 times too stiff beside a near-repeated
+    // pair: force 0.026 at ball 9); with per-span barriers an honest not_converged (residual 4e-4).
+    "quasi-elastic-balls-kkt-s19-c1088.json",
 };
 
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),

@@ -517,6 +517,7 @@ class Solver {
     // beside a near-repeated pair (weights 1e6 times the rest) the global scale let the other
     // directions stop a tenth of the energy away from the optimum.
     local_.assign(n_, 0.0);
+    held_weight_.assign(ns_, 0.0);  // until measure_scales()
     for (std::size_t s = 0; s < ns_; ++s) {
       const double w = 1.0 / st.len[s];
       local_[s] = std::max(local_[s], w);
@@ -573,7 +574,6 @@ class Solver {
     std::vector<double> slack(n_, -1.0);
     for (double mu = 1e-1; mu >= kLastBarrier && total.iterations < max_iterations_; mu *= 0.1) {
       if (mu < 1e-1) measure_scales();
-      held_weight_ = kHeldBarrier * torque_;
       const Outcome o = run(mu, std::min(kStageIterations, max_iterations_ - total.iterations),
                             std::max(mu, kConditioningResidual * 1e-2) * gscale_);
       total.iterations += o.iterations;
@@ -592,12 +592,6 @@ class Solver {
     return total;
   }
 
-  // The exact phase's barrier weights without a barrier phase before it.
-  void measure_weights() {
-    measure_scales();
-    held_weight_ = kHeldBarrier * torque_;
-  }
-
   // The energy's typical force on a position and torque on a direction at the current point:
   // the barrier weights' scales, renewed per stage as the curve straightens.
   void measure_scales() {
@@ -609,10 +603,25 @@ class Solver {
       sum += dot(force(i), force(i));
       ++balls;
     }
-    for (double t : raw_.slot) tsum += t * t;
+    // The held barriers are per span, relative to its own weight 1/L: with one weight for all,
+    // a near-repeated pair (weights 1e6 times the rest) made every other held box's barrier
+    // 1e6 times stiffer, which left positions beside a given direction 1e-2 of their spans'
+    // forces from stationary.
+    double hsum = 0.0;
+    for (std::size_t k = 0; k < raw_.slot.size(); ++k) {
+      const double t = raw_.slot[k];
+      tsum += t * t;
+      const Slot& sl = pb_.slot[k];
+      double w = 0.0;
+      for (int b = 0; b < sl.nbox; ++b) w = std::max(w, 1.0 / st_.len[sl.span[b]]);
+      if (w > 0.0) hsum += (t / w) * (t / w);
+    }
     const double slots = static_cast<double>(std::max<std::size_t>(raw_.slot.size(), 1));
     force_ = std::sqrt(sum / static_cast<double>(balls));
     torque_ = std::max(std::sqrt(tsum / slots), 1e-3 * gscale_);
+    const double unit = std::max(std::sqrt(hsum / slots), 1e-3);
+    held_weight_.resize(ns_);
+    for (std::size_t s = 0; s < ns_; ++s) held_weight_[s] = kHeldBarrier * unit / st_.len[s];
     if (!(force_ > 1e-6 * gscale_ * gscale_)) force_ = 1e-6 * gscale_ * gscale_;
   }
 
@@ -855,7 +864,7 @@ class Solver {
       for (std::size_t s = 0; s < pb.spans(); ++s) {
         const auto [a, be] = end_angles(pb, st, s);
         const double room = std::max(kPi - std::abs(a - be), kBoxRounding * kPi);
-        b -= held_weight_ * std::log(room * (2.0 * kPi - room) / (kPi * kPi));
+        b -= held_weight_[s] * std::log(room * (2.0 * kPi - room) / (kPi * kPi));
       }
     }
     return b;
@@ -868,7 +877,7 @@ class Solver {
   // barrier's (its force is that box's multiplier) instead of by rejected steps.
   double box_weight(const Slot& sl, int k, double mu) const {
     if (mu > 0.0) return sl.active < 0 ? mu * torque_ : 0.0;
-    if (sl.fixed || (sl.active >= 0 && sl.active != k)) return held_weight_;
+    if (sl.fixed || (sl.active >= 0 && sl.active != k)) return held_weight_[sl.span[k]];
     return 0.0;
   }
 
@@ -917,8 +926,8 @@ class Solver {
       const double x = al - be;
       const double lo = std::max(kPi + x, kBoxRounding * kPi),
                    hi = std::max(kPi - x, kBoxRounding * kPi);
-      add_function(d, held_weight_ * (1.0 / hi - 1.0 / lo),
-                   held_weight_ * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
+      add_function(d, held_weight_[s] * (1.0 / hi - 1.0 / lo),
+                   held_weight_[s] * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
     }
     for (const Node& nd : pb_.node) {
       if (mu == 0.0 || nd.var < 0 || nd.boundary) continue;
@@ -1189,7 +1198,7 @@ class Solver {
   State& st_;
   std::size_t n_, ns_;
   double force_ = 0.0, torque_ = 0.0;  // the barrier's scales
-  double held_weight_ = 0.0;           // the exact phase's barrier weight on position bounds
+  std::vector<double> held_weight_;    // per span: the exact phase's barrier on position bounds
   double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
   std::vector<double> local_;  // per node: its spans' largest weight
   std::vector<double> floor_;  // per node: the residual its chords' rounding allows
@@ -1302,7 +1311,7 @@ Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barr
     res = solver.barrier_phase();
     solver.cross_over();
   } else {
-    solver.measure_weights();
+    solver.measure_scales();  // the held barriers' weights
   }
   Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
   // A stationary point where a span's E_1 is concave may be a saddle (by symmetry: a straight
