@@ -79,6 +79,7 @@ const std::vector<std::string> kInputs = {
     "quasi-elastic-balls-kkt-s19-c1088.json",
     "quasi-elastic-balls-not_converged-s19-c1346.json",
     "quasi-elastic-balls-not_converged-s19-c1401.json",
+    "quasi-elastic-balls-not_converged-s19-c193.json",
     "quasi-elastic-balls-not_converged-s19-c914.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
@@ -115,9 +116,9 @@ const std::set<std::string> kOpen = {
     // Data balls (issue 19): linear convergence at the iteration cap, 8e-8 above the tolerance
     // (docs/hardening.md, "Data balls").
     "restricted-elastic-balls-not_converged-s19-c419.json",
-    // Data balls: a free direction squeezed between its two bounds (its chords turn by 2Ω to
-    // 1e-12) blocks every step that would turn them further; residual 1.1 (docs/hardening.md).
-    "quasi-elastic-balls-not_converged-s19-c914.json",
+    // Data balls: a noisy closed circle where ball 122, 1e-8·r inside its circle and pushed
+    // outward (scaled force 17.9), stays free although put on its circle (docs/hardening.md).
+    "quasi-elastic-balls-not_converged-s19-c193.json",
     // Data balls: was a false optimum (a held barrier 1e6 times too stiff beside a near-repeated
     // pair: force 0.026 at ball 9); with per-span barriers an honest not_converged (residual 4e-4).
     "quasi-elastic-balls-kkt-s19-c1088.json",

@@ -485,6 +485,11 @@ constexpr double kMinPivot = 1e-16;
 /// Newton iterations per barrier stage at most (a stage only guides the next one).
 constexpr int kStageIterations = 40;
 
+/// A free direction this close to a bound (relative to Ω) counts as on it, if pushed outward.
+constexpr double kSqueezed = 1e-9;
+/// A free position this close to its circle (relative to r) goes onto it, if pushed outward.
+constexpr double kPressed = 1e-6;
+
 /// Positions the barrier left within this fraction of the radius of their circle start on it.
 constexpr double kCrossOver = 1e-3;
 
@@ -721,6 +726,9 @@ class Solver {
       // can point out through it again).
       const double free_at = std::max(target, pg);
       if (wrong > free_at && release(free_at)) {
+        border = number_unknowns(pb_, scale_);
+        phi = evaluate(mu, border);
+      } else if (mu == 0.0 && activate_squeezed()) {
         border = number_unknowns(pb_, scale_);
         phi = evaluate(mu, border);
       }
@@ -1040,6 +1048,42 @@ class Solver {
       any = true;
     }
     return any;
+  }
+
+  // A free direction on a bound to rounding (kSqueezed·Ω) whose torque pushes it out goes onto
+  // it, so that its other box becomes a held one. Without, a direction squeezed between both
+  // bounds (its chords turning by 2Ω) stayed free: every step turning its chords further was
+  // rejected, and the positions beside it stalled far from stationary. Likewise a free position
+  // within kPressed·r of its circle and pushed outward goes onto it (a move that lowers the
+  // energy): steps cut short by the line search covered a fraction of its last 1e-8·r each.
+  bool activate_squeezed() {
+    const double om = pb_.omega;
+    bool any = false;
+    Problem p = pb_;
+    for (Node& nd : p.node) {
+      if (nd.var < 0 || nd.boundary || nd.r == 0.0) continue;
+      if (norm(nd.o) < nd.r * (1.0 - kPressed) || g_[nd.var] >= 0.0) continue;
+      put_on_circle(nd);
+      any = true;
+    }
+    for (Slot& sl : p.slot) {
+      if (sl.var < 0) continue;
+      for (int k = 0; k < sl.nbox; ++k) {
+        const double dev = wrap(sl.theta + sl.offset[k] - st_.phi[sl.span[k]]);
+        if (om - std::abs(dev) > kSqueezed * om || g_[sl.var] * dev >= 0.0) continue;
+        sl.active = k;
+        sl.sign = dev > 0 ? 1 : -1;
+        any = true;
+        break;
+      }
+    }
+    if (!any) return false;
+    State s;
+    chord_angles(p, s);
+    if (!settle(p, s) || !std::isfinite(total_energy(p, s))) return false;
+    std::swap(pb_, p);
+    std::swap(st_, s);
+    return true;
   }
 
   // Frees every constraint whose multiplier has the wrong sign by more than `target`.
