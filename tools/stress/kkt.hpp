@@ -543,8 +543,8 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   std::vector<std::size_t> first, last;
   KktResult legs;
   if (!detail::spans_of(r, n, spans, first, last, legs)) return legs;
-  std::vector<Vec2> force(n), unit_n(spans);
-  std::vector<double> g_out(spans), g_in(spans), al(spans), be(spans), len(spans);
+  std::vector<Vec2> force(n), unit_n(spans), pull(spans);
+  std::vector<double> g_out(spans), g_in(spans), al(spans), be(spans), len(spans), e(spans);
   for (std::size_t s = 0; s < spans; ++s) {
     const std::size_t j = s + 1 == n ? 0 : s + 1;
     const Vec2 c = r.points[j] - r.points[s];
@@ -553,10 +553,16 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
     const double phi = std::atan2(c.y, c.x);
     al[s] = std::remainder(std::atan2(d0.y, d0.x) - phi, 2 * std::numbers::pi);
     be[s] = std::remainder(std::atan2(d1.y, d1.x) - phi, 2 * std::numbers::pi);
+    // Read off the Béziers, a direction on its bound can come out beyond it by rounding, where
+    // some energies are infinite (restricted-elastic beyond 90°).
+    for (double* x : {&al[s], &be[s]}) {
+      if (std::abs(*x) > m.omega && std::abs(*x) <= m.omega * (1.0 + 1e-9))
+        *x = std::copysign(m.omega, *x);
+    }
     const fairspline::detail::SpanDerivatives sd =
         fairspline::detail::span_derivatives(basic_energy(m, al[s], be[s]), c);
-    force[s] -= Vec2{sd.g[2], sd.g[3]};
-    force[j] += Vec2{sd.g[2], sd.g[3]};
+    pull[s] = Vec2{sd.g[2], sd.g[3]};
+    e[s] = sd.e;
     g_out[s] = sd.g[0], g_in[s] = sd.g[1];
     len[s] = norm(c);
     unit_n[s] = Vec2{-c.y, c.x} / len[s];
@@ -571,10 +577,18 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   // a little inside: near it counts as on it.
   const double near_bound = m.omega * (1.0 - 1e-5);
   std::vector<char> unchecked(n, 0);
-  auto turn_with = [&](std::size_t s, double torque) {  // θ = φ_s + const
-    const std::size_t j = s + 1 == n ? 0 : s + 1;
-    force[s] -= (torque / len[s]) * unit_n[s];
-    force[j] += (torque / len[s]) * unit_n[s];
+  // A direction on a bound turns with its chord (θ = φ_s + const), so its torque moves the
+  // chord's ends. Recorded first: where both end directions of a span turn with it, its (α, β)
+  // stay put as the chord turns, and its own torques cancel with its chord-angle force (they are
+  // infinite at some box corners, e.g. restricted-elastic at (90°, −90°)).
+  struct Turn {
+    std::size_t span;
+    double torque, other;  // all of it, and the part not from `span` itself
+    bool start;            // the node is the span's start
+  };
+  std::vector<Turn> turns;
+  auto turn_with = [&](std::size_t s, double torque, double other, bool start) {
+    turns.push_back({s, torque, other, start});
   };
   auto skip_span = [&](std::size_t s) { unchecked[s] = unchecked[s + 1 == n ? 0 : s + 1] = 1; };
   // A chord below 1e-6 of the coordinates' size: its end directions, read off the Béziers,
@@ -603,13 +617,30 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
     } else if (tied) {
       if ((on_out && std::abs(be[si]) >= near_bound) || (on_in && std::abs(al[so]) >= near_bound)) {
         skip_span(so), skip_span(si);
-      } else if (on_out || on_in) {
-        turn_with(on_out ? so : si, g_out[so] + g_in[si]);
+      } else if (on_out) {
+        turn_with(so, g_out[so] + g_in[si], g_in[si], true);
+      } else if (on_in) {
+        turn_with(si, g_out[so] + g_in[si], g_out[so], false);
       }
     } else {
-      if (on_out) turn_with(so, g_out[so]);
-      if (on_in) turn_with(si, g_in[si]);
+      if (on_out) turn_with(so, g_out[so], 0.0, true);
+      if (on_in) turn_with(si, g_in[si], 0.0, false);
     }
+  }
+  std::vector<int> ends(spans, 0);  // 1: the start turns with it, 2: the end, 3: both
+  for (const Turn& t : turns) ends[t.span] |= t.start ? 1 : 2;
+  for (std::size_t s = 0; s < spans; ++s) {
+    const std::size_t j = s + 1 == n ? 0 : s + 1;
+    // Both ends turning: E_1 is constant, only 1/L changes.
+    const Vec2 f = ends[s] == 3 ? (e[s] / len[s]) * Vec2{-unit_n[s].y, unit_n[s].x} : pull[s];
+    force[s] -= f;
+    force[j] += f;
+  }
+  for (const Turn& t : turns) {
+    const std::size_t j = t.span + 1 == n ? 0 : t.span + 1;
+    const double torque = ends[t.span] == 3 ? t.other : t.torque;
+    force[t.span] -= (torque / len[t.span]) * unit_n[t.span];
+    force[j] += (torque / len[t.span]) * unit_n[t.span];
   }
   double worst = 0.0;
   std::size_t at_node = 0;
