@@ -596,8 +596,9 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   // the directions, not the positions).
   double size = 0.0;
   for (const Point& q : r.points) size = std::max({size, std::abs(q.x), std::abs(q.y)});
+  std::vector<char> tiny(spans, 0);
   for (std::size_t s = 0; s < spans; ++s) {
-    if (len[s] < 1e-6 * size) skip_span(s);
+    if (len[s] < 1e-6 * size) skip_span(s), tiny[s] = 1;
     // The elastic spline's pair bound |α − β| = π (held by the solver's barrier): E_1's
     // partial derivatives are infinite there (only their sum, the turn of both, is finite).
     if (m.basis == MinEnergyBasis::kElastic &&
@@ -617,8 +618,12 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
     } else if (tied) {
       if ((on_out && std::abs(be[si]) >= near_bound) || (on_in && std::abs(al[so]) >= near_bound)) {
         skip_span(so), skip_span(si);
+      } else if (on_out && tiny[si]) {  // the torque carried over is that short span's: noise
+        skip_span(so);
       } else if (on_out) {
         turn_with(so, g_out[so] + g_in[si], g_in[si], true);
+      } else if (on_in && tiny[so]) {
+        skip_span(si);
       } else if (on_in) {
         turn_with(si, g_out[so] + g_in[si], g_out[so], false);
       }
