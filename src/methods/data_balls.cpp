@@ -608,10 +608,8 @@ class Solver {
       sum += dot(force(i), force(i));
       ++balls;
     }
-    // The held barriers are per span, relative to its own weight 1/L: with one weight for all,
-    // a near-repeated pair (weights 1e6 times the rest) made every other held box's barrier
-    // 1e6 times stiffer, which left positions beside a given direction 1e-2 of their spans'
-    // forces from stationary.
+    // The held barriers are per span, relative to its own weight 1/L, so that a near-repeated
+    // pair's torques (weights 1e6 times the rest) do not stiffen every other span's barrier.
     double hsum = 0.0;
     for (std::size_t k = 0; k < raw_.slot.size(); ++k) {
       const double t = raw_.slot[k];
@@ -1051,11 +1049,10 @@ class Solver {
   }
 
   // A free direction on a bound to rounding (kSqueezed·Ω) whose torque pushes it out goes onto
-  // it, so that its other box becomes a held one. Without, a direction squeezed between both
-  // bounds (its chords turning by 2Ω) stayed free: every step turning its chords further was
-  // rejected, and the positions beside it stalled far from stationary. Likewise a free position
-  // within kPressed·r of its circle and pushed outward goes onto it (a move that lowers the
-  // energy): steps cut short by the line search covered a fraction of its last 1e-8·r each.
+  // it, so that its other box becomes a held one: a free direction squeezed between both bounds
+  // blocks every step that turns its chords further. Likewise a free position within kPressed·r
+  // of its circle and pushed outward (a move that lowers the energy): shortened steps only ever
+  // cover part of that gap.
   bool activate_squeezed() {
     const double om = pb_.omega;
     bool any = false;

@@ -583,13 +583,10 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   // infinite at some box corners, e.g. restricted-elastic at (90°, −90°)).
   struct Turn {
     std::size_t span;
-    double torque, other;  // all of it, and the part not from `span` itself
-    bool start;            // the node is the span's start
+    double other;  // the torque not from `span` itself (the node's other span's)
+    bool start;    // the node is the span's start
   };
   std::vector<Turn> turns;
-  auto turn_with = [&](std::size_t s, double torque, double other, bool start) {
-    turns.push_back({s, torque, other, start});
-  };
   auto skip_span = [&](std::size_t s) { unchecked[s] = unchecked[s + 1 == n ? 0 : s + 1] = 1; };
   // A chord below 1e-6 of the coordinates' size: its end directions, read off the Béziers,
   // keep fewer than ten digits, too few for the forces (check_min_energy's allowance covers
@@ -621,15 +618,15 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
       } else if (on_out && tiny[si]) {  // the torque carried over is that short span's: noise
         skip_span(so);
       } else if (on_out) {
-        turn_with(so, g_out[so] + g_in[si], g_in[si], true);
+        turns.push_back({so, g_in[si], true});
       } else if (on_in && tiny[so]) {
         skip_span(si);
       } else if (on_in) {
-        turn_with(si, g_out[so] + g_in[si], g_out[so], false);
+        turns.push_back({si, g_out[so], false});
       }
     } else {
-      if (on_out) turn_with(so, g_out[so], 0.0, true);
-      if (on_in) turn_with(si, g_in[si], 0.0, false);
+      if (on_out) turns.push_back({so, 0.0, true});
+      if (on_in) turns.push_back({si, 0.0, false});
     }
   }
   std::vector<int> ends(spans, 0);  // 1: the start turns with it, 2: the end, 3: both
@@ -643,7 +640,8 @@ inline KktResult check_balls(const FitInput& in, const FitResult& r, const Basic
   }
   for (const Turn& t : turns) {
     const std::size_t j = t.span + 1 == n ? 0 : t.span + 1;
-    const double torque = ends[t.span] == 3 ? t.other : t.torque;
+    const double own = t.start ? g_out[t.span] : g_in[t.span];
+    const double torque = ends[t.span] == 3 ? t.other : t.other + own;
     force[t.span] -= (torque / len[t.span]) * unit_n[t.span];
     force[j] += (torque / len[t.span]) * unit_n[t.span];
   }
