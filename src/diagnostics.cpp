@@ -6,11 +6,13 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <numbers>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "detail/intersections.hpp"
@@ -180,6 +182,103 @@ bool finite_bezier(const CubicBezier& b) {
   return is_finite(b.p[0]) && is_finite(b.p[1]) && is_finite(b.p[2]) && is_finite(b.p[3]);
 }
 
+/// Largest |coordinate| of the control points.
+double coordinate_scale(const Spline& s) {
+  double big = 0.0;
+  for (const Segment& g : s.segments)
+    for (const Point& p : g.bezier.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
+  return big;
+}
+
+/// Coordinates within 2^±kNormalRange (fit()'s rule, detail/normalize.hpp) are reported
+/// directly (the curvature-variation integrand holds tenth powers of coordinates). Scaling by a
+/// power of two commutes with every rounding, so the scaled path gives the same bits wherever
+/// nothing under- or overflows; the threshold only saves the copy.
+constexpr int kScaleExponent = detail::kNormalRange;
+
+/// Largest number of grid cells the boxes may cover, per box, before the pair search falls
+/// back to a sweep (boxes of widely spread sizes: a few long pieces beside many short ones).
+constexpr double kMaxCoverPerBox = 16.0;
+
+/// Calls f(i, j) once for every pair of the boxes box[live[..]] that overlap (closed).
+/// A uniform grid with cells of about the median box size holds every box in the cells it
+/// covers, and a pair is taken in the one cell holding the low corner of the two boxes' overlap:
+/// O(n + pairs) on curves of pieces of similar size, where a sweep along one axis tests every
+/// pair overlapping in that axis (~n·sqrt(n) on a long random walk).
+template <class F>
+void for_each_overlapping_pair(const std::vector<BBox>& box, const std::vector<std::size_t>& live,
+                               const BBox& all, F&& f) {
+  using Index = std::uint32_t;  // halves the grid's memory
+  const double m = static_cast<double>(live.size());
+  const double wx = all.max.x - all.min.x, wy = all.max.y - all.min.y;
+  std::vector<double> sizes;
+  sizes.reserve(live.size());
+  for (std::size_t k : live)
+    sizes.push_back(std::max(box[k].max.x - box[k].min.x, box[k].max.y - box[k].min.y));
+  const auto mid = sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2);
+  std::nth_element(sizes.begin(), mid, sizes.end());
+  double h = *mid;
+  if (!(h > 0.0)) h = std::max(wx, wy);
+  // At most about 2 cells per box.
+  const double cells = (std::floor(wx / h) + 1.0) * (std::floor(wy / h) + 1.0);
+  if (cells > 2.0 * m) h *= std::sqrt(cells / (2.0 * m));
+  const double nxd = std::floor(wx / h) + 1.0, nyd = std::floor(wy / h) + 1.0;
+  bool grid = std::isfinite(nxd * nyd) && h > 0.0 && nxd * nyd <= 4.0 * m + 4.0 &&
+              kMaxCoverPerBox * m < static_cast<double>(std::numeric_limits<Index>::max());
+  const auto nx = grid ? static_cast<std::size_t>(nxd) : 1,
+             ny = grid ? static_cast<std::size_t>(nyd) : 1;
+  auto col = [&](double x) {
+    return std::min(nx - 1, static_cast<std::size_t>((x - all.min.x) / h));
+  };
+  auto row = [&](double y) {
+    return std::min(ny - 1, static_cast<std::size_t>((y - all.min.y) / h));
+  };
+  if (grid) {
+    double cover = 0.0;
+    for (std::size_t k : live)
+      cover += static_cast<double>((col(box[k].max.x) - col(box[k].min.x) + 1) *
+                                   (row(box[k].max.y) - row(box[k].min.y) + 1));
+    grid = cover <= kMaxCoverPerBox * m;
+  }
+  if (!grid) {
+    // Sweep along the longer axis.
+    const bool use_x = wx >= wy;
+    auto lo = [&](std::size_t k) { return use_x ? box[k].min.x : box[k].min.y; };
+    auto hi = [&](std::size_t k) { return use_x ? box[k].max.x : box[k].max.y; };
+    std::vector<std::size_t> order = live;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return lo(a) < lo(b); });
+    for (std::size_t i = 0; i < order.size(); ++i)
+      for (std::size_t j = i + 1; j < order.size() && lo(order[j]) <= hi(order[i]); ++j)
+        if (box[order[i]].min.y <= box[order[j]].max.y &&
+            box[order[j]].min.y <= box[order[i]].max.y)
+          f(order[i], order[j]);
+    return;
+  }
+  // Pieces by cell (counting sort; end[c] ends cell c's run, and is its start after the fill).
+  std::vector<Index> end(nx * ny, 0);
+  auto for_cells = [&](std::size_t k, auto&& g) {
+    for (std::size_t r = row(box[k].min.y), r1 = row(box[k].max.y); r <= r1; ++r)
+      for (std::size_t c = col(box[k].min.x), c1 = col(box[k].max.x); c <= c1; ++c) g(r * nx + c);
+  };
+  for (std::size_t k : live) for_cells(k, [&](std::size_t cell) { ++end[cell]; });
+  for (std::size_t c = 1; c < nx * ny; ++c) end[c] += end[c - 1];
+  std::vector<Index> items(end.back());
+  for (std::size_t k : live)
+    for_cells(k, [&](std::size_t cell) { items[--end[cell]] = static_cast<Index>(k); });
+  for (std::size_t cell = 0; cell < nx * ny; ++cell) {
+    const std::size_t first = end[cell], last = cell + 1 < nx * ny ? end[cell + 1] : items.size();
+    for (std::size_t a = first; a < last; ++a)
+      for (std::size_t b = a + 1; b < last; ++b) {
+        const BBox &p = box[items[a]], &q = box[items[b]];
+        if (!(q.min.x <= p.max.x && p.min.x <= q.max.x && q.min.y <= p.max.y && p.min.y <= q.max.y))
+          continue;
+        const double cx = std::max(p.min.x, q.min.x), cy = std::max(p.min.y, q.min.y);
+        if (row(cy) * nx + col(cx) == cell) f(items[a], items[b]);
+      }
+  }
+}
+
 }  // namespace
 
 RegularityCertificate certify_regularity(const CubicBezier& b, const DiagnosticsOptions& options) {
@@ -212,6 +311,18 @@ double curvature_jump(const CubicBezier& a, const CubicBezier& b) {
 
 std::vector<Intersection> find_self_intersections(const Spline& s,
                                                   const DiagnosticsOptions& options) {
+  // The search squares lengths of sub-pieces: coordinates far from unit size are searched on a
+  // copy scaled by a power of two (exact; parameters do not change) and the points scaled back.
+  const double big = coordinate_scale(s);
+  if (big > 0.0 && std::isfinite(big) && std::abs(std::ilogb(big)) > kScaleExponent) {
+    const int ex = std::ilogb(big);
+    Spline unit = s;
+    for (Segment& g : unit.segments)
+      for (Point& p : g.bezier.p) p = detail::scaled(p, -ex);
+    std::vector<Intersection> xs = find_self_intersections(unit, options);
+    for (Intersection& x : xs) x.point = detail::scaled(x.point, ex);
+    return xs;
+  }
   // Hits with the geometric tolerance they were accepted with (for merging duplicates).
   struct Hit {
     Intersection x;
@@ -253,7 +364,7 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
     result.push_back({{k, k, u, v, p}, tol});
   }
 
-  // 2. Crossings between pieces: sweep of the tight boxes along the longer axis of the curve.
+  // 2. Crossings between pieces whose tight boxes overlap.
   std::vector<BBox> box(n);
   BBox all{{kUnbounded, kUnbounded}, {-kUnbounded, -kUnbounded}};
   for (std::size_t k : live) {
@@ -265,35 +376,21 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
     all.min = {std::min(all.min.x, b.min.x), std::min(all.min.y, b.min.y)};
     all.max = {std::max(all.max.x, b.max.x), std::max(all.max.y, b.max.y)};
   }
-  const bool use_x = (all.max.x - all.min.x) >= (all.max.y - all.min.y);
-  auto lo = [&](std::size_t k) { return use_x ? box[k].min.x : box[k].min.y; };
-  auto hi = [&](std::size_t k) { return use_x ? box[k].max.x : box[k].max.y; };
-  auto lo2 = [&](std::size_t k) { return use_x ? box[k].min.y : box[k].min.x; };
-  auto hi2 = [&](std::size_t k) { return use_x ? box[k].max.y : box[k].max.x; };
-  std::vector<std::size_t> order = live;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return lo(a) < lo(b); });
-
   detail::IntersectionWorkspace ws;
   std::vector<detail::CurveHit> hits;
   const std::size_t first_pair_hit = result.size();
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const std::size_t ki = order[i];
-    for (std::size_t j = i + 1; j < order.size() && lo(order[j]) <= hi(ki); ++j) {
-      const std::size_t kj = order[j];
-      if (lo2(kj) > hi2(ki) || lo2(ki) > hi2(kj)) continue;
-      const std::size_t a = std::min(ki, kj), b = std::max(ki, kj);
-      unsigned joints = detail::kNoJoint;
-      if (live_before[b] - live_before[a + 1] == 0) joints |= detail::kEndToStart;
-      if (s.closed && a == first_live && b == last_live) joints |= detail::kStartToEnd;
-      const CubicBezier& A = s.segments[a].bezier;
-      const CubicBezier& B = s.segments[b].bezier;
-      hits.clear();
-      const double tol = rel * std::max(scale[a], scale[b]);
-      detail::intersect_pieces(A, B, joints, tol, max_depth, ws, hits);
-      for (const detail::CurveHit& h : hits) result.push_back({{a, b, h.u_a, h.u_b, h.point}, tol});
-    }
-  }
+  auto test_pair = [&](std::size_t ki, std::size_t kj) {
+    const std::size_t a = std::min(ki, kj), b = std::max(ki, kj);
+    unsigned joints = detail::kNoJoint;
+    if (live_before[b] - live_before[a + 1] == 0) joints |= detail::kEndToStart;
+    if (s.closed && a == first_live && b == last_live) joints |= detail::kStartToEnd;
+    hits.clear();
+    const double tol = rel * std::max(scale[a], scale[b]);
+    detail::intersect_pieces(s.segments[a].bezier, s.segments[b].bezier, joints, tol, max_depth, ws,
+                             hits);
+    for (const detail::CurveHit& h : hits) result.push_back({{a, b, h.u_a, h.u_b, h.point}, tol});
+  };
+  for_each_overlapping_pair(box, live, all, test_pair);
 
   // 3. A crossing exactly at a joint is found on both pieces of the joint: name it by the later
   //    piece at u = 0, then keep one of each.
@@ -485,11 +582,25 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
   };
   const std::size_t threads =
       std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 8});
+  // The intersection search (serial, about as long as the pieces on one core) runs beside the
+  // pieces on long curves; its result and its error are taken after theirs, as in order.
+  std::vector<Intersection> intersections;
+  std::exception_ptr intersections_failed;
+  auto search = [&] {
+    try {
+      intersections = find_self_intersections(s, options);
+    } catch (...) {
+      intersections_failed = std::current_exception();
+    }
+  };
   {
+    std::jthread beside;
+    if (full && threads > 1) beside = std::jthread(search);
     std::vector<std::jthread> pool;
     for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
     work();
   }
+  if (full && threads <= 1) search();
   double min_speed = std::numeric_limits<double>::infinity();
   double bending = 0.0, variation = 0.0, length = 0.0;
   for (std::size_t c = 0; c < chunks; ++c) {
@@ -540,7 +651,8 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
   r.length = length;
   if (full) {
     r.curvature_variation_energy = variation;
-    r.intersections = find_self_intersections(s, options);
+    if (intersections_failed) std::rethrow_exception(intersections_failed);
+    r.intersections = std::move(intersections);
     for (const Intersection& x : r.intersections)
       if (x.segment_a == x.segment_b) r.segments[x.segment_a].has_loop = true;
   }
@@ -548,20 +660,6 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
     throw Error(ErrorCode::kNonFinite, "the linearized energy of the spline overflows");
   return r;
 }
-
-/// Largest |coordinate| of the control points.
-double coordinate_scale(const Spline& s) {
-  double big = 0.0;
-  for (const Segment& g : s.segments)
-    for (const Point& p : g.bezier.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
-  return big;
-}
-
-/// Coordinates within 2^±kNormalRange (fit()'s rule, detail/normalize.hpp) are reported
-/// directly (the curvature-variation integrand holds tenth powers of coordinates). Scaling by a
-/// power of two commutes with every rounding, so the scaled path gives the same bits wherever
-/// nothing under- or overflows; the threshold only saves the copy.
-constexpr int kScaleExponent = detail::kNormalRange;
 
 }  // namespace
 

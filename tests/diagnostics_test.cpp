@@ -9,8 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "fairspline/error.hpp"
@@ -420,6 +422,143 @@ RC_GTEST_PROP(Diagnostics, IntersectionsAreInvariantUnderSimilarities, ()) {
     if (std::abs(cross(da, db)) > 1e-3 * norm(da) * norm(db)) {
       RC_ASSERT(std::abs(moved[i].u_a - h.u_a) <= 1e-6);
       RC_ASSERT(std::abs(moved[i].u_b - h.u_b) <= 1e-6);
+    }
+  }
+}
+
+/// A Catmull–Rom chain through a seeded random walk (turns within ±120°, steps 0.5 to 2):
+/// regular pieces that cross each other often, as a fit of such a walk does.
+Spline walk_chain(std::uint64_t seed, int n, bool closed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> turn(-2.0 * std::numbers::pi / 3.0,
+                                              2.0 * std::numbers::pi / 3.0);
+  std::uniform_real_distribution<double> step(0.5, 2.0);
+  std::vector<Point> q;
+  Point p{0.0, 0.0};
+  double heading = 0.0;
+  for (int i = 0; i < n; ++i) {
+    q.push_back(p);
+    heading += turn(rng);
+    p = p + step(rng) * from_angle(heading);
+  }
+  const int m = static_cast<int>(q.size());
+  auto at = [&](int i) {
+    return closed ? q[static_cast<std::size_t>((i + m) % m)]
+                  : q[static_cast<std::size_t>(std::clamp(i, 0, m - 1))];
+  };
+  std::vector<CubicBezier> pieces;
+  for (int i = 0; i < (closed ? m : m - 1); ++i)
+    pieces.push_back(bez(at(i), at(i) + (at(i + 1) - at(i - 1)) / 6.0,
+                         at(i + 1) - (at(i + 2) - at(i)) / 6.0, at(i + 1)));
+  return make_spline(pieces, closed);
+}
+
+struct PolylineCrossing {
+  std::size_t a, b;
+  Point point;
+  double sin_angle;
+};
+
+/// Brute-force reference: every pair of pieces whose control polygons' boxes overlap (the curve
+/// lies in them), flattened into `steps` chords each, all chord pairs intersected; crossings at a
+/// joint shared by the two pieces are left out.
+std::vector<PolylineCrossing> polyline_crossings(const Spline& s, int steps) {
+  const std::size_t n = s.segments.size();
+  std::vector<std::vector<Point>> poly(n);
+  for (std::size_t k = 0; k < n; ++k)
+    for (int i = 0; i <= steps; ++i)
+      poly[k].push_back(s.segments[k].bezier.eval(double(i) / steps));
+  std::vector<PolylineCrossing> out;
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a; b < n; ++b) {
+      const BBox p = s.segments[a].bezier.control_bbox(), q = s.segments[b].bezier.control_bbox();
+      if (p.max.x < q.min.x || q.max.x < p.min.x || p.max.y < q.min.y || q.max.y < p.min.y)
+        continue;
+      for (std::size_t i = 0; i < static_cast<std::size_t>(steps); ++i)
+        for (std::size_t j = (a == b ? i + 2 : 0); j < static_cast<std::size_t>(steps); ++j) {
+          const Point p = poly[a][i], q = poly[b][j];
+          const Vec2 r = poly[a][i + 1] - p, w = poly[b][j + 1] - q;
+          const double den = cross(r, w);
+          if (den == 0.0) continue;
+          const double u = cross(q - p, w) / den, v = cross(q - p, r) / den;
+          if (u < 0.0 || u >= 1.0 || v < 0.0 || v >= 1.0) continue;
+          const Point x = p + u * r;
+          const bool end_start = b == a + 1 || (s.closed && a == 0 && b == n - 1);
+          if (end_start && (distance(x, s.segments[a].bezier.p[3]) < 1e-9 ||
+                            distance(x, s.segments[a].bezier.p[0]) < 1e-9))
+            continue;
+          out.push_back({a, b, x, std::abs(den) / (norm(r) * norm(w))});
+        }
+    }
+  return out;
+}
+
+// The search against the brute-force reference on long random walks, open and closed, and with
+// a few long chords across the walk among the short pieces (which makes the pair search fall
+// back from its grid to a sweep). Every transversal crossing of the flattened pieces away from
+// the joints is found within the flattening error, and every hit is a genuine contact.
+TEST(Diagnostics, CrossingsOfRandomWalksMatchABruteForceSearch) {
+  std::size_t compared = 0;
+  for (std::uint64_t seed = 1; seed <= 16; ++seed) {
+    Spline s = walk_chain(seed, 100, seed % 3 == 0);
+    if (seed % 4 == 1) {  // a star of chords ~30 times the walk's extent across it
+      s.closed = false;
+      for (int k = 1; k <= 20; ++k)
+        s.segments.push_back(
+            {line(s.segments.back().bezier.p[3], 300.0 * from_angle(2.8 * k)), 0.0, 1.0, 0});
+    }
+    const auto hits = find_self_intersections(s);
+    const auto reference = polyline_crossings(s, 200);
+    // The flattened pieces are within ~|b''|/8·(1/200)² ≈ 4e-5 of the curve.
+    constexpr double kNear = 1e-3;
+    auto joint_near = [&](Point x) {
+      for (const Segment& g : s.segments)
+        if (distance(x, g.bezier.p[0]) < kNear || distance(x, g.bezier.p[3]) < kNear) return true;
+      return false;
+    };
+    for (const Intersection& h : hits) {
+      const CubicBezier &A = s.segments[h.segment_a].bezier, &B = s.segments[h.segment_b].bezier;
+      EXPECT_LE(distance(A.eval(h.u_a), B.eval(h.u_b)), 1e-8) << seed;
+      const Vec2 da = A.d1(h.u_a), db = B.d1(h.u_b);
+      if (std::abs(cross(da, db)) < 0.05 * norm(da) * norm(db) || joint_near(h.point)) continue;
+      const bool found = std::ranges::any_of(reference, [&](const PolylineCrossing& c) {
+        return c.a == h.segment_a && c.b == h.segment_b && distance(c.point, h.point) < kNear;
+      });
+      EXPECT_TRUE(found) << "seed " << seed << ": hit of pieces " << h.segment_a << ", "
+                         << h.segment_b << " at (" << h.point.x << ", " << h.point.y << ")";
+    }
+    for (const PolylineCrossing& c : reference) {
+      if (c.sin_angle < 0.05 || joint_near(c.point)) continue;
+      ++compared;
+      const bool found = std::ranges::any_of(hits, [&](const Intersection& h) {
+        return h.segment_a == c.a && h.segment_b == c.b && distance(c.point, h.point) < kNear;
+      });
+      EXPECT_TRUE(found) << "seed " << seed << ": crossing of pieces " << c.a << ", " << c.b
+                         << " at (" << c.point.x << ", " << c.point.y << ") not found";
+    }
+  }
+  EXPECT_GT(compared, 600u);  // the walks cross themselves often enough to mean something
+}
+
+// The search scales far-away coordinates by a power of two, which is exact: the same parameters
+// and the scaled points, bit for bit.
+TEST(Diagnostics, IntersectionsOfAScaledCurveAreTheScaledOnes) {
+  const Spline s = walk_chain(7, 100, false);
+  const auto hits = find_self_intersections(s);
+  ASSERT_GT(hits.size(), 10u);
+  for (int ex : {-300, -100, -40, 40, 100, 300}) {
+    Spline t = s;
+    for (Segment& g : t.segments)
+      for (Point& q : g.bezier.p) q = {std::ldexp(q.x, ex), std::ldexp(q.y, ex)};
+    const auto moved = find_self_intersections(t);
+    ASSERT_EQ(moved.size(), hits.size()) << ex;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      EXPECT_EQ(moved[i].segment_a, hits[i].segment_a) << ex;
+      EXPECT_EQ(moved[i].segment_b, hits[i].segment_b) << ex;
+      EXPECT_EQ(moved[i].u_a, hits[i].u_a) << ex;
+      EXPECT_EQ(moved[i].u_b, hits[i].u_b) << ex;
+      EXPECT_EQ(moved[i].point.x, std::ldexp(hits[i].point.x, ex)) << ex;
+      EXPECT_EQ(moved[i].point.y, std::ldexp(hits[i].point.y, ex)) << ex;
     }
   }
 }

@@ -11,6 +11,13 @@ namespace {
 
 /// Subdivision cells of one pair of pieces before they are taken to coincide along an arc.
 constexpr std::size_t kMaxCells = std::size_t{1} << 15;
+/// Sub-pieces whose control points are within this fraction of their chord from it may be
+/// settled by Newton (when transversal): a few halvings instead of ~15 down to tol.
+constexpr double kNearlyStraight = 1.0 / 16.0;
+/// Least angle (radians) between the tangent lines of two sub-pieces settled by Newton.
+constexpr double kTransversal = 1e-3;
+/// Slack, as a fraction of a cell's parameter width, within which a Newton hit is in the cell.
+constexpr double kInCell = 1e-6;
 /// Distinct crossings of two cubics that do not share an arc: at most 3·3 (Bezout).
 constexpr std::size_t kMaxCrossings = 9;
 
@@ -19,12 +26,36 @@ bool boxes_overlap(const BBox& a, const BBox& b, double margin) {
          a.min.y <= b.max.y + margin && b.min.y <= a.max.y + margin;
 }
 
+// find_self_intersections scales coordinates into 2^±kNormalRange, where squares cannot
+// overflow: sqrt(norm2) stands in for the slower hypot.
+double length(Vec2 v) {
+  return std::sqrt(norm2(v));
+}
+
 /// Largest distance of the inner control points from the chord (from p0 when the chord is 0).
 double flatness(const CubicBezier& c) {
   const Vec2 d = c.p[3] - c.p[0];
-  const double len = norm(d);
-  if (len == 0.0) return std::max(distance(c.p[0], c.p[1]), distance(c.p[0], c.p[2]));
+  const double len = length(d);
+  if (len == 0.0) return std::max(length(c.p[1] - c.p[0]), length(c.p[2] - c.p[0]));
   return std::max(std::abs(cross(d, c.p[1] - c.p[0])), std::abs(cross(d, c.p[2] - c.p[0]))) / len;
+}
+
+/// True when b's control points lie on one side of a's fat line (the band around a's chord
+/// holding a's control points) widened by tol: then the convex hulls, and so the pieces, are
+/// more than tol apart. Catches slanted pieces whose axis-aligned boxes overlap.
+bool fat_line_separates(const CubicBezier& a, const CubicBezier& b, double tol) {
+  const Vec2 d = a.p[3] - a.p[0];
+  const double len = length(d);
+  if (len == 0.0) return false;
+  const double d1 = cross(d, a.p[1] - a.p[0]), d2 = cross(d, a.p[2] - a.p[0]);
+  const double lo = std::min({0.0, d1, d2}) - tol * len, hi = std::max({0.0, d1, d2}) + tol * len;
+  bool below = true, above = true;
+  for (const Point& q : b.p) {
+    const double e = cross(d, q - a.p[0]);
+    below = below && e < lo;
+    above = above && e > hi;
+  }
+  return below || above;
 }
 
 /// Angular interval (centre, half width) of the nonzero vectors v[0..n) (the first nonzero one
@@ -36,9 +67,10 @@ int cone(const Vec2* v, int n, double& centre, double& half, double& shortest) {
   for (int k = 0; k < n; ++k)
     if (norm2(v[k]) > 0.0) {
       if (ref < 0) ref = k;
-      shortest = std::min(shortest, norm(v[k]));
+      shortest = std::min(shortest, norm2(v[k]));
     }
   if (ref < 0) return 0;
+  shortest = std::sqrt(shortest);
   double lo = 0.0, hi = 0.0;
   for (int k = 0; k < n; ++k) {
     if (norm2(v[k]) == 0.0) continue;
@@ -77,19 +109,62 @@ bool separated_at_joint(const CubicBezier& a, bool a_ends_at_joint, const CubicB
   return d > ha + hb + margin;
 }
 
+/// Crossing of the chords of a and b at chord parameters (sa, sb), clamped to [0,1]; false when
+/// they miss each other by more than 2·tol. Parallel chords give (0.5, 0.5).
+bool chords_cross(const CubicBezier& a, const CubicBezier& b, double tol, double& sa, double& sb) {
+  const Vec2 r = a.p[3] - a.p[0], w = b.p[3] - b.p[0], q = b.p[0] - a.p[0];
+  const double den = cross(r, w);
+  const double lr = length(r), lw = length(w);
+  sa = sb = 0.5;
+  if (!(std::abs(den) > 64.0 * kEps * lr * lw)) return true;
+  sa = cross(q, w) / den;
+  sb = cross(q, r) / den;
+  const double slack_a = lr > 0.0 ? 2.0 * tol / lr : 1.0;
+  const double slack_b = lw > 0.0 ? 2.0 * tol / lw : 1.0;
+  if (sa < -slack_a || sa > 1.0 + slack_a || sb < -slack_b || sb > 1.0 + slack_b) return false;
+  sa = std::clamp(sa, 0.0, 1.0);
+  sb = std::clamp(sb, 0.0, 1.0);
+  return true;
+}
+
+/// True when every tangent of a crosses every tangent of b at more than kTransversal radians,
+/// on the same side: cross(a'(s), b'(t)) is a positive combination of the crosses of their
+/// hodographs' control vectors, so these all of one sign suffice. Then a and b meet at most
+/// once (the chord between two meeting points would be parallel to a tangent of each) and
+/// Newton's Jacobian is regular on the whole cell.
+bool transversal(const CubicBezier& a, const CubicBezier& b) {
+  int sign = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Vec2 u = a.p[i + 1] - a.p[i];
+    const double uu = norm2(u);
+    if (uu == 0.0) continue;
+    for (int j = 0; j < 3; ++j) {
+      const Vec2 v = b.p[j + 1] - b.p[j];
+      const double vv = norm2(v);
+      if (vv == 0.0) continue;
+      const double c = cross(u, v);
+      if (!(c * c > kTransversal * kTransversal * uu * vv)) return false;
+      const int sg = c > 0.0 ? 1 : -1;
+      if (sign != 0 && sg != sign) return false;
+      sign = sg;
+    }
+  }
+  return sign != 0;
+}
+
 /// Newton on A(s) − B(t) = 0 from (s, t), staying in [0,1]². Returns the final distance.
 double newton(const CubicBezier& A, const CubicBezier& B, double& s, double& t) {
   Vec2 f = A.eval(s) - B.eval(t);
-  double dist = norm(f);
+  double dist = length(f);
   for (int it = 0; it < 12 && dist > 0.0; ++it) {
     const Vec2 c1 = A.d1(s), c2 = -B.d1(t);
     const double det = cross(c1, c2);
-    if (!(std::abs(det) > 64.0 * kEps * norm(c1) * norm(c2))) break;  // tangential
+    if (!(std::abs(det) > 64.0 * kEps * std::sqrt(norm2(c1) * norm2(c2)))) break;  // tangential
     const Vec2 r = -f;
     const double ns = std::clamp(s + cross(r, c2) / det, 0.0, 1.0);
     const double nt = std::clamp(t + cross(c1, r) / det, 0.0, 1.0);
     const Vec2 nf = A.eval(ns) - B.eval(nt);
-    const double nd = norm(nf);
+    const double nd = length(nf);
     if (!(nd < dist)) break;
     s = ns;
     t = nt;
@@ -173,35 +248,41 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
       if (separated_at_joint(c.a, end_start, c.b, end_start)) continue;
       if (c.depth >= max_depth) continue;  // cusp joint: overlap at J is not a crossing
     }
-    const bool flat_a = flatness(c.a) <= tol, flat_b = flatness(c.b) <= tol;
+    const double fa = flatness(c.a), fb = flatness(c.b);
+    const bool flat_a = fa <= tol, flat_b = fb <= tol;
     const bool has_joint = end_start || start_end;
-    if ((flat_a && flat_b && !has_joint) || c.depth >= max_depth) {
-      // Intersect the chords; a hit seeds Newton on the original pieces.
-      const Vec2 r = c.a.p[3] - c.a.p[0], w = c.b.p[3] - c.b.p[0], q = c.b.p[0] - c.a.p[0];
-      const double den = cross(r, w);
-      const double lr = norm(r), lw = norm(w);
-      double sa = 0.5, sb = 0.5;
-      if (std::abs(den) > 64.0 * kEps * lr * lw) {
-        sa = cross(q, w) / den;
-        sb = cross(q, r) / den;
-        const double slack_a = lr > 0.0 ? 2.0 * tol / lr : 1.0;
-        const double slack_b = lw > 0.0 ? 2.0 * tol / lw : 1.0;
-        if (sa < -slack_a || sa > 1.0 + slack_a || sb < -slack_b || sb > 1.0 + slack_b) continue;
-        sa = std::clamp(sa, 0.0, 1.0);
-        sb = std::clamp(sb, 0.0, 1.0);
-      }
-      double s = c.a0 + sa * (c.a1 - c.a0), t = c.b0 + sb * (c.b1 - c.b0);
-      const double dist = newton(A, B, s, t);
-      if (!(dist <= accept)) continue;
+    const bool last = (flat_a && flat_b && !has_joint) || c.depth >= max_depth;
+    // A hit is the Newton solution from the chords' crossing; it counts where the pieces meet
+    // within 4·tol, except where Newton slid into a shared joint (not a crossing).
+    auto refine = [&](double sa, double sb, double& s, double& t) {
+      s = c.a0 + sa * (c.a1 - c.a0);
+      t = c.b0 + sb * (c.b1 - c.b0);
+      if (!(newton(A, B, s, t) <= accept)) return false;
       const Point p = 0.5 * (A.eval(s) + B.eval(t));
-      // Newton may slide into a shared joint from a neighbouring cell: not a crossing.
-      if ((joints & kEndToStart) && distance(p, A.p[3]) <= 4.0 * tol && s > 0.5 && t < 0.5)
-        continue;
-      if ((joints & kStartToEnd) && distance(p, A.p[0]) <= 4.0 * tol && s < 0.5 && t > 0.5)
-        continue;
-      hits.push_back({s, t, p});
+      if (!((joints & kEndToStart) && distance(p, A.p[3]) <= 4.0 * tol && s > 0.5 && t < 0.5) &&
+          !((joints & kStartToEnd) && distance(p, A.p[0]) <= 4.0 * tol && s < 0.5 && t > 0.5))
+        hits.push_back({s, t, p});
+      return true;
+    };
+    double sa = 0.5, sb = 0.5, s = 0.0, t = 0.0;
+    if (last) {
+      if (chords_cross(c.a, c.b, tol, sa, sb)) refine(sa, sb, s, t);
       continue;
     }
+    // Transversal, nearly straight sub-pieces cross at most once: Newton from the chords'
+    // crossing finds that crossing long before the sub-pieces are flat to tol. The hit settles
+    // the cell only if it lies in the cell; otherwise the subdivision goes on.
+    if (!has_joint && fa <= kNearlyStraight * length(c.a.p[3] - c.a.p[0]) &&
+        fb <= kNearlyStraight * length(c.b.p[3] - c.b.p[0]) &&
+        chords_cross(c.a, c.b, tol, sa, sb) && transversal(c.a, c.b)) {
+      const double ma = kInCell * (c.a1 - c.a0), mb = kInCell * (c.b1 - c.b0);
+      const std::size_t before = hits.size();
+      if (refine(sa, sb, s, t) && s >= c.a0 - ma && s <= c.a1 + ma && t >= c.b0 - mb &&
+          t <= c.b1 + mb)
+        continue;
+      hits.resize(before);
+    }
+    if (fat_line_separates(c.a, c.b, tol) || fat_line_separates(c.b, c.a, tol)) continue;
     // Subdivide the non-flat pieces (both when a joint must be isolated).
     const double am = 0.5 * (c.a0 + c.a1), bm = 0.5 * (c.b0 + c.b1);
     const bool split_a = !flat_a || has_joint, split_b = !flat_b || has_joint;

@@ -51,6 +51,7 @@ struct IntersectionWorkspace {
 /// finds more than the 9 crossings two distinct cubics can have, or needs more than 2^15 cells
 /// (fewer after earlier overlaps: IntersectionWorkspace::overlaps), one hit (the one of smallest
 /// parameter on A) stands for the shared arc.
+/// The coordinates must be within 2^±kNormalRange (squares of differences are taken).
 void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joints, double tol,
                       int max_depth, IntersectionWorkspace& ws, std::vector<CurveHit>& out);
 
