@@ -14,13 +14,6 @@ double CubicBezier::curvature(double u) const {
   return cross(v, d2(u)) / (s2 * std::sqrt(s2));
 }
 
-std::pair<CubicBezier, CubicBezier> CubicBezier::split(double u) const {
-  const Point a = lerp(p[0], p[1], u), b = lerp(p[1], p[2], u), c = lerp(p[2], p[3], u);
-  const Point ab = lerp(a, b, u), bc = lerp(b, c, u);
-  const Point m = lerp(ab, bc, u);
-  return {CubicBezier{{p[0], a, ab, m}}, CubicBezier{{m, bc, c, p[3]}}};
-}
-
 CubicBezier CubicBezier::subsegment(double u0, double u1) const {
   // Blossom evaluation: control points are f(u0,u0,u0), f(u0,u0,u1), f(u0,u1,u1), f(u1,u1,u1).
   auto blossom = [this](double a, double b, double c) {
@@ -73,17 +66,6 @@ BBox CubicBezier::bbox() const {
   };
   for_each_extremum(h.p[0].x, h.p[1].x, h.p[2].x, include);
   for_each_extremum(h.p[0].y, h.p[1].y, h.p[2].y, include);
-  return box;
-}
-
-BBox CubicBezier::control_bbox() const {
-  BBox box{p[0], p[0]};
-  for (const Point& q : p) {
-    box.min.x = std::min(box.min.x, q.x);
-    box.min.y = std::min(box.min.y, q.y);
-    box.max.x = std::max(box.max.x, q.x);
-    box.max.y = std::max(box.max.y, q.y);
-  }
   return box;
 }
 

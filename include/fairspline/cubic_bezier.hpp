@@ -1,6 +1,7 @@
 // CubicBezier: one planar cubic in Bernstein-Bézier form on the local parameter u in [0, 1].
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <utility>
 
@@ -54,8 +55,14 @@ struct CubicBezier {
     return {{3.0 * (p[1] - p[0]), 3.0 * (p[2] - p[1]), 3.0 * (p[3] - p[2])}};
   }
 
-  /// Split at u into [0,u] and [u,1] (de Casteljau).
-  std::pair<CubicBezier, CubicBezier> split(double u) const;
+  /// Split at u into [0,u] and [u,1] (de Casteljau). Inline: subdivision searches call it
+  /// millions of times.
+  std::pair<CubicBezier, CubicBezier> split(double u) const {
+    const Point a = lerp(p[0], p[1], u), b = lerp(p[1], p[2], u), c = lerp(p[2], p[3], u);
+    const Point ab = lerp(a, b, u), bc = lerp(b, c, u);
+    const Point m = lerp(ab, bc, u);
+    return {CubicBezier{{p[0], a, ab, m}}, CubicBezier{{m, bc, c, p[3]}}};
+  }
   /// The piece on [u0, u1] reparameterized to [0, 1]; u0 > u1 gives the reversed piece.
   CubicBezier subsegment(double u0, double u1) const;
   /// The same curve traversed backwards.
@@ -63,8 +70,15 @@ struct CubicBezier {
 
   /// Tight bounding box (extrema of the coordinate polynomials).
   BBox bbox() const;
-  /// Bounding box of the control polygon (contains the curve; cheap).
-  BBox control_bbox() const;
+  /// Bounding box of the control polygon (contains the curve; cheap, inline).
+  BBox control_bbox() const {
+    BBox box{p[0], p[0]};
+    for (const Point& q : p) {
+      box.min = {std::min(box.min.x, q.x), std::min(box.min.y, q.y)};
+      box.max = {std::max(box.max.x, q.x), std::max(box.max.y, q.y)};
+    }
+    return box;
+  }
 
   /// Arc length to an absolute error of about accuracy·(control polygon length)
   /// by adaptive Gauss–Kronrod (15/31) quadrature of |c'(u)|.

@@ -225,7 +225,8 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
   auto& hits = ws.hits;
   stack.clear();
   hits.clear();
-  stack.push_back({A, B, 0.0, 1.0, 0.0, 1.0, 0});
+  if (boxes_overlap(A.control_bbox(), B.control_bbox(), tol))
+    stack.push_back({A, B, 0.0, 1.0, 0.0, 1.0, 0});
   const double accept = 4.0 * tol;
   // Pieces that coincide along an arc (a curve retracing itself) meet in a continuum: every cell
   // along the shared arc survives, so their number doubles with each level. The cell budget
@@ -241,7 +242,6 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
     }
     const IntersectionWorkspace::Cell c = stack.back();
     stack.pop_back();
-    if (!boxes_overlap(c.a.control_bbox(), c.b.control_bbox(), tol)) continue;
     const bool end_start = (joints & kEndToStart) && c.a1 == 1.0 && c.b0 == 0.0;
     const bool start_end = (joints & kStartToEnd) && c.a0 == 0.0 && c.b1 == 1.0;
     if (end_start != start_end) {  // exactly one shared joint in this cell
@@ -283,23 +283,30 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
       hits.resize(before);
     }
     if (fat_line_separates(c.a, c.b, tol) || fat_line_separates(c.b, c.a, tol)) continue;
-    // Subdivide the non-flat pieces (both when a joint must be isolated).
+    // Subdivide the non-flat pieces (both when a joint must be isolated); sub-pairs whose
+    // control boxes are apart are not pushed (each half's box computed once).
     const double am = 0.5 * (c.a0 + c.a1), bm = 0.5 * (c.b0 + c.b1);
     const bool split_a = !flat_a || has_joint, split_b = !flat_b || has_joint;
     const auto [a0, a1] = split_a ? c.a.split(0.5) : std::pair{c.a, c.a};
     const auto [b0, b1] = split_b ? c.b.split(0.5) : std::pair{c.b, c.b};
+    const BBox ba0 = a0.control_bbox(), ba1 = split_a ? a1.control_bbox() : ba0;
+    const BBox bb0 = b0.control_bbox(), bb1 = split_b ? b1.control_bbox() : bb0;
     const int d = c.depth + 1;
+    auto push = [&](const CubicBezier& a, const BBox& ba, double u0, double u1,
+                    const CubicBezier& b, const BBox& bb, double v0, double v1) {
+      if (boxes_overlap(ba, bb, tol)) stack.push_back({a, b, u0, u1, v0, v1, d});
+    };
     if (split_a && split_b) {
-      stack.push_back({a0, b0, c.a0, am, c.b0, bm, d});
-      stack.push_back({a0, b1, c.a0, am, bm, c.b1, d});
-      stack.push_back({a1, b0, am, c.a1, c.b0, bm, d});
-      stack.push_back({a1, b1, am, c.a1, bm, c.b1, d});
+      push(a0, ba0, c.a0, am, b0, bb0, c.b0, bm);
+      push(a0, ba0, c.a0, am, b1, bb1, bm, c.b1);
+      push(a1, ba1, am, c.a1, b0, bb0, c.b0, bm);
+      push(a1, ba1, am, c.a1, b1, bb1, bm, c.b1);
     } else if (split_a) {
-      stack.push_back({a0, c.b, c.a0, am, c.b0, c.b1, d});
-      stack.push_back({a1, c.b, am, c.a1, c.b0, c.b1, d});
+      push(a0, ba0, c.a0, am, c.b, bb0, c.b0, c.b1);
+      push(a1, ba1, am, c.a1, c.b, bb0, c.b0, c.b1);
     } else {
-      stack.push_back({c.a, b0, c.a0, c.a1, c.b0, bm, d});
-      stack.push_back({c.a, b1, c.a0, c.a1, bm, c.b1, d});
+      push(c.a, ba0, c.a0, c.a1, b0, bb0, c.b0, bm);
+      push(c.a, ba0, c.a0, c.a1, b1, bb1, bm, c.b1);
     }
   }
   // Pieces leaving a shared joint J into the same half-plane touch tangentially near J (a
