@@ -199,6 +199,8 @@ constexpr int kScaleExponent = detail::kNormalRange;
 /// Largest number of grid cells the boxes may cover, per box, before the pair search falls
 /// back to a sweep (boxes of widely spread sizes: a few long pieces beside many short ones).
 constexpr double kMaxCoverPerBox = 16.0;
+/// Pairs of pieces per chunk of the intersection search (per thread, with its own budget).
+constexpr std::size_t kPairChunk = 4096;
 
 /// Calls f(i, j) once for every pair of the boxes box[live[..]] that overlap (closed).
 /// A uniform grid with cells of about the median box size holds every box in the cells it
@@ -376,21 +378,44 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
     all.min = {std::min(all.min.x, b.min.x), std::min(all.min.y, b.min.y)};
     all.max = {std::max(all.max.x, b.max.x), std::max(all.max.y, b.max.y)};
   }
-  detail::IntersectionWorkspace ws;
-  std::vector<detail::CurveHit> hits;
+  // The pairs are searched in chunks, each with a workspace of its own (its cell budget
+  // halves with each shared arc found in the chunk), on every core: the same bits on any
+  // number of threads.
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for_each_overlapping_pair(box, live, all, [&](std::size_t i, std::size_t j) {
+    pairs.emplace_back(std::min(i, j), std::max(i, j));
+  });
   const std::size_t first_pair_hit = result.size();
-  auto test_pair = [&](std::size_t ki, std::size_t kj) {
-    const std::size_t a = std::min(ki, kj), b = std::max(ki, kj);
-    unsigned joints = detail::kNoJoint;
-    if (live_before[b] - live_before[a + 1] == 0) joints |= detail::kEndToStart;
-    if (s.closed && a == first_live && b == last_live) joints |= detail::kStartToEnd;
-    hits.clear();
-    const double tol = rel * std::max(scale[a], scale[b]);
-    detail::intersect_pieces(s.segments[a].bezier, s.segments[b].bezier, joints, tol, max_depth, ws,
-                             hits);
-    for (const detail::CurveHit& h : hits) result.push_back({{a, b, h.u_a, h.u_b, h.point}, tol});
+  const std::size_t chunks = (pairs.size() + kPairChunk - 1) / kPairChunk;
+  std::vector<std::vector<Hit>> found(chunks);
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    detail::IntersectionWorkspace ws;
+    std::vector<detail::CurveHit> hits;
+    for (std::size_t c; (c = next.fetch_add(1)) < chunks;) {
+      ws.overlaps = 0;
+      for (std::size_t p = c * kPairChunk; p < std::min(pairs.size(), (c + 1) * kPairChunk); ++p) {
+        const auto [a, b] = pairs[p];
+        unsigned joints = detail::kNoJoint;
+        if (live_before[b] - live_before[a + 1] == 0) joints |= detail::kEndToStart;
+        if (s.closed && a == first_live && b == last_live) joints |= detail::kStartToEnd;
+        hits.clear();
+        const double tol = rel * std::max(scale[a], scale[b]);
+        detail::intersect_pieces(s.segments[a].bezier, s.segments[b].bezier, joints, tol, max_depth,
+                                 ws, hits);
+        for (const detail::CurveHit& h : hits)
+          found[c].push_back({{a, b, h.u_a, h.u_b, h.point}, tol});
+      }
+    }
   };
-  for_each_overlapping_pair(box, live, all, test_pair);
+  {
+    const std::size_t threads =
+        std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 8});
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+  }
+  for (const std::vector<Hit>& f : found) result.insert(result.end(), f.begin(), f.end());
 
   // 3. A crossing exactly at a joint is found on both pieces of the joint: name it by the later
   //    piece at u = 0, then keep one of each.

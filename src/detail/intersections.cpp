@@ -294,7 +294,10 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
     const int d = c.depth + 1;
     auto push = [&](const CubicBezier& a, const BBox& ba, double u0, double u1,
                     const CubicBezier& b, const BBox& bb, double v0, double v1) {
-      if (boxes_overlap(ba, bb, tol)) stack.push_back({a, b, u0, u1, v0, v1, d});
+      if (boxes_overlap(ba, bb, tol))
+        stack.push_back({a, b, u0, u1, v0, v1, d});
+      else
+        ++cells;  // counted as before, when cells were tested after the pop
     };
     if (split_a && split_b) {
       push(a0, ba0, c.a0, am, b0, bb0, c.b0, bm);

@@ -34,7 +34,8 @@ struct IntersectionWorkspace {
   std::vector<Cell> stack;
   std::vector<CurveHit> hits;
   /// Pairs found to share an arc by exhausting the cell budget. Each one halves the budget of
-  /// the pairs searched after it (down to 2^10 cells): a curve that retraces itself many times
+  /// the pairs searched after it with this workspace (down to 2^10 cells; find_self_intersections
+  /// resets it per chunk of pairs): a curve that retraces itself many times
   /// (points alternating between two places) has O(n²) coinciding pairs, and at 2^15 cells each
   /// the full report of 44 such points took 0.5 s (13 s under the sanitizers; found by fuzz_fit).
   std::size_t overlaps = 0;
