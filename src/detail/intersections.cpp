@@ -18,6 +18,8 @@ constexpr double kNearlyStraight = 1.0 / 16.0;
 constexpr double kTransversal = 1e-3;
 /// Slack, as a fraction of a cell's parameter width, within which a Newton hit is in the cell.
 constexpr double kInCell = 1e-6;
+/// Cells of one pair after which the Newton settlement and the fat lines are skipped.
+constexpr std::size_t kQuickCells = 128;
 /// Distinct crossings of two cubics that do not share an arc: at most 3·3 (Bezout).
 constexpr std::size_t kMaxCrossings = 9;
 
@@ -272,7 +274,10 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
     // Transversal, nearly straight sub-pieces cross at most once: Newton from the chords'
     // crossing finds that crossing long before the sub-pieces are flat to tol. The hit settles
     // the cell only if it lies in the cell; otherwise the subdivision goes on.
-    if (!has_joint && fa <= kNearlyStraight * length(c.a.p[3] - c.a.p[0]) &&
+    // A pair past kQuickCells cells is tangential or shares an arc (most pairs need a few
+    // dozen): there the two tests below only add to every cell's cost.
+    const bool quick = cells <= kQuickCells;
+    if (quick && !has_joint && fa <= kNearlyStraight * length(c.a.p[3] - c.a.p[0]) &&
         fb <= kNearlyStraight * length(c.b.p[3] - c.b.p[0]) &&
         chords_cross(c.a, c.b, tol, sa, sb) && transversal(c.a, c.b)) {
       const double ma = kInCell * (c.a1 - c.a0), mb = kInCell * (c.b1 - c.b0);
@@ -282,7 +287,7 @@ void intersect_pieces(const CubicBezier& A, const CubicBezier& B, unsigned joint
         continue;
       hits.resize(before);
     }
-    if (fat_line_separates(c.a, c.b, tol) || fat_line_separates(c.b, c.a, tol)) continue;
+    if (quick && (fat_line_separates(c.a, c.b, tol) || fat_line_separates(c.b, c.a, tol))) continue;
     // Subdivide the non-flat pieces (both when a joint must be isolated); sub-pairs whose
     // control boxes are apart are not pushed (each half's box computed once).
     const double am = 0.5 * (c.a0 + c.a1), bm = 0.5 * (c.b0 + c.b1);
