@@ -182,19 +182,42 @@ bool finite_bezier(const CubicBezier& b) {
   return is_finite(b.p[0]) && is_finite(b.p[1]) && is_finite(b.p[2]) && is_finite(b.p[3]);
 }
 
-/// Largest |coordinate| of the control points.
-double coordinate_scale(const Spline& s) {
-  double big = 0.0;
-  for (const Segment& g : s.segments)
-    for (const Point& p : g.bezier.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
-  return big;
-}
-
 /// Coordinates within 2^±kNormalRange (fit()'s rule, detail/normalize.hpp) are reported
 /// directly (the curvature-variation integrand holds tenth powers of coordinates). Scaling by a
 /// power of two commutes with every rounding, so the scaled path gives the same bits wherever
 /// nothing under- or overflows; the threshold only saves the copy.
 constexpr int kScaleExponent = detail::kNormalRange;
+
+/// The binary exponent of the largest |coordinate| of the control points when it is beyond
+/// 2^±kScaleExponent, else 0 (also for a curve at the origin or not finite).
+int far_exponent(const Spline& s) {
+  double big = 0.0;
+  for (const Segment& g : s.segments)
+    for (const Point& p : g.bezier.p) big = std::max({big, std::abs(p.x), std::abs(p.y)});
+  if (!(big > 0.0) || !std::isfinite(big) || std::abs(std::ilogb(big)) <= kScaleExponent) return 0;
+  return std::ilogb(big);
+}
+
+/// s with every control point scaled by 2^ex (exact where nothing under- or overflows).
+Spline scaled_spline(const Spline& s, int ex) {
+  Spline t = s;
+  for (Segment& g : t.segments)
+    for (Point& p : g.bezier.p) p = detail::scaled(p, ex);
+  return t;
+}
+
+/// Runs worker(next) on min(chunks, cores, 8) threads, this one among them; next() hands out
+/// each chunk index in [0, chunks) once, then chunks.
+template <class Worker>
+void on_every_core(std::size_t chunks, Worker&& worker) {
+  std::atomic<std::size_t> counter{0};
+  auto run = [&] { worker([&] { return counter.fetch_add(1); }); };
+  const std::size_t threads =
+      std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 8});
+  std::vector<std::jthread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(run);
+  run();
+}
 
 /// Largest number of grid cells the boxes may cover, per box, before the pair search falls
 /// back to a sweep (boxes of widely spread sizes: a few long pieces beside many short ones).
@@ -315,13 +338,8 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
                                                   const DiagnosticsOptions& options) {
   // The search squares lengths of sub-pieces: coordinates far from unit size are searched on a
   // copy scaled by a power of two (exact; parameters do not change) and the points scaled back.
-  const double big = coordinate_scale(s);
-  if (big > 0.0 && std::isfinite(big) && std::abs(std::ilogb(big)) > kScaleExponent) {
-    const int ex = std::ilogb(big);
-    Spline unit = s;
-    for (Segment& g : unit.segments)
-      for (Point& p : g.bezier.p) p = detail::scaled(p, -ex);
-    std::vector<Intersection> xs = find_self_intersections(unit, options);
+  if (const int ex = far_exponent(s); ex != 0) {
+    std::vector<Intersection> xs = find_self_intersections(scaled_spline(s, -ex), options);
     for (Intersection& x : xs) x.point = detail::scaled(x.point, ex);
     return xs;
   }
@@ -388,11 +406,10 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
   const std::size_t first_pair_hit = result.size();
   const std::size_t chunks = (pairs.size() + kPairChunk - 1) / kPairChunk;
   std::vector<std::vector<Hit>> found(chunks);
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
+  on_every_core(chunks, [&](auto next) {
     detail::IntersectionWorkspace ws;
     std::vector<detail::CurveHit> hits;
-    for (std::size_t c; (c = next.fetch_add(1)) < chunks;) {
+    for (std::size_t c; (c = next()) < chunks;) {
       ws.overlaps = 0;
       for (std::size_t p = c * kPairChunk; p < std::min(pairs.size(), (c + 1) * kPairChunk); ++p) {
         const auto [a, b] = pairs[p];
@@ -407,14 +424,7 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
           found[c].push_back({{a, b, h.u_a, h.u_b, h.point}, tol});
       }
     }
-  };
-  {
-    const std::size_t threads =
-        std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 8});
-    std::vector<std::jthread> pool;
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
-  }
+  });
   for (const std::vector<Hit>& f : found) result.insert(result.end(), f.begin(), f.end());
 
   // 3. A crossing exactly at a joint is found on both pieces of the joint: name it by the later
@@ -595,20 +605,8 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
   const std::size_t chunks = (n + kReportChunk - 1) / kReportChunk;
   std::vector<Partial> part(chunks);
   std::vector<std::exception_ptr> failed(chunks);
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t c; (c = next.fetch_add(1)) < chunks;) {
-      try {
-        pieces(c * kReportChunk, std::min(n, (c + 1) * kReportChunk), part[c]);
-      } catch (...) {
-        failed[c] = std::current_exception();
-      }
-    }
-  };
-  const std::size_t threads =
-      std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 8});
-  // The intersection search (serial, about as long as the pieces on one core) runs beside the
-  // pieces on long curves; its result and its error are taken after theirs, as in order.
+  // The intersection search runs beside the pieces on long curves (it takes its own chunks of
+  // pairs on every core); its result and its error are taken after theirs, as in order.
   std::vector<Intersection> intersections;
   std::exception_ptr intersections_failed;
   auto search = [&] {
@@ -618,14 +616,21 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
       intersections_failed = std::current_exception();
     }
   };
+  const bool beside_pieces = full && chunks > 1 && std::thread::hardware_concurrency() > 1;
   {
     std::jthread beside;
-    if (full && threads > 1) beside = std::jthread(search);
-    std::vector<std::jthread> pool;
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
+    if (beside_pieces) beside = std::jthread(search);
+    on_every_core(chunks, [&](auto next) {
+      for (std::size_t c; (c = next()) < chunks;) {
+        try {
+          pieces(c * kReportChunk, std::min(n, (c + 1) * kReportChunk), part[c]);
+        } catch (...) {
+          failed[c] = std::current_exception();
+        }
+      }
+    });
   }
-  if (full && threads <= 1) search();
+  if (full && !beside_pieces) search();
   double min_speed = std::numeric_limits<double>::infinity();
   double bending = 0.0, variation = 0.0, length = 0.0;
   for (std::size_t c = 0; c < chunks; ++c) {
@@ -696,13 +701,9 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
 // knots too (linearized_energy scales internally).
 Report make_report(const Spline& s, std::span<const Point> points, ReportLevel level,
                    const DiagnosticsOptions& options) {
-  const double big = coordinate_scale(s);
-  if (!(big > 0.0) || !std::isfinite(big) || std::abs(std::ilogb(big)) <= kScaleExponent)
-    return report_of(s, s, points, level, options);
-  const int ex = std::ilogb(big);
-  Spline unit = s;
-  for (Segment& g : unit.segments)
-    for (Point& p : g.bezier.p) p = detail::scaled(p, -ex);
+  const int ex = far_exponent(s);
+  if (ex == 0) return report_of(s, s, points, level, options);
+  const Spline unit = scaled_spline(s, -ex);
   std::vector<Point> unit_points(points.begin(), points.end());
   for (Point& p : unit_points) p = detail::scaled(p, -ex);
   Report r = report_of(unit, s, unit_points, level, options);
