@@ -3,6 +3,7 @@
 // nodes; a span's energy E_1(α, β)/L depends on its two nodes only, so the Newton system is
 // banded (a closed curve adds a border). Derivation: docs/methods/min-energy.md, "Data balls".
 #include "methods/data_balls.hpp"
+#include "methods/min_energy_options.hpp"
 
 #include <algorithm>
 #include <array>
@@ -542,7 +543,7 @@ class Solver {
     }
     // The elastic energies come from root-finds, relative-accurate to ~1e-12.
     relative_rounding_ = is_elastic(pb.m.basis) ? 1e-12 : 1e-15;
-    max_iterations_ = options.max_iterations;
+    max_iterations_ = detail::iteration_limit(options);
     held_.assign(n_, 0);
   }
 
@@ -1354,11 +1355,11 @@ Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barr
   } else {
     solver.measure_scales();  // the held barriers' weights
   }
-  Outcome exact = solver.run(0.0, options.max_iterations, solver.tol);
+  Outcome exact = solver.run(0.0, detail::iteration_limit(options), solver.tol);
   // A stationary point where a span's E_1 is concave may be a saddle (by symmetry: a straight
   // span between free ends for cond-G2 with λ > 3/2): leave it downhill, go on.
   for (int k = 0; k < 8 && exact.converged && solver.escape(); ++k) {
-    const Outcome more = solver.run(0.0, options.max_iterations, solver.tol);
+    const Outcome more = solver.run(0.0, detail::iteration_limit(options), solver.tol);
     exact.converged = more.converged;
     exact.stalled = more.stalled;
     exact.residual = more.residual;

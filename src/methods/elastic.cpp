@@ -75,10 +75,10 @@ MethodInfo make(bool restricted) {
                                        "chord| <= omega_deg, at most 180"},
                   {.name = "max_iterations",
                    .type = OptionType::kInteger,
-                   .default_value = 200,
+                   .default_value = nullptr,
                    .min = 1.0,
                    .max = 100000.0,
-                   .doc = "Newton iteration limit (an error if reached)"},
+                   .doc = detail::kMaxIterationsDoc},
                   detail::min_energy_search_option()},
       .fit =
           [restricted](const FitInput& in, const nlohmann::json& o, const FitOptions& f,
@@ -86,7 +86,8 @@ MethodInfo make(bool restricted) {
             ElasticOptions opt;
             opt.restricted = restricted;
             opt.omega_deg = o.at("omega_deg").get<double>();
-            opt.max_iterations = o.at("max_iterations").get<int>();
+            if (o.contains("max_iterations"))
+              opt.max_iterations = o.at("max_iterations").get<int>();
             opt.search = detail::parse_min_energy_search(o);
             opt.accuracy = f.curve_accuracy();
             opt.best_effort = f.best_effort;

@@ -802,7 +802,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // precision: a walk whose chords spanned 10^3.4 (energy 9e9, ulp 2e-6) crept on at projected
   // gradient 1.6e-10 for 2000 iterations, each lowering the energy by about one ulp.
   int flat = 0;
-  for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
+  for (res.iterations = 0; res.iterations <= detail::iteration_limit(opt); ++res.iterations) {
     const double pg = projected_gradient(ch, ev.g, gscale, res.worst);
     res.pg = pg;
     if (pg <= tol) {
@@ -813,7 +813,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       res.at_precision = true;
       return res;
     }
-    if (res.iterations == opt.max_iterations) break;
+    if (res.iterations == detail::iteration_limit(opt)) break;
     // Windows at most every other iteration: a global Newton step joins them up.
     if (k >= kWindowMinNodes && !windows_last) {
       if (solve_windows(ch, opt, gscale, ev.g)) {
@@ -1218,7 +1218,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     }
     return res;
   }
-  for (res.iterations = 0; res.iterations <= opt.max_iterations; ++res.iterations) {
+  for (res.iterations = 0; res.iterations <= detail::iteration_limit(opt); ++res.iterations) {
     const Groups g = make_groups(ch, link);
     const std::size_t G = g.first.size();
     // Reduced gradient, Hessian; a group with a bound or fixed node does not move.
@@ -1396,7 +1396,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       continue;
     }
     res.pg = residual;
-    if (res.iterations == opt.max_iterations) break;
+    if (res.iterations == detail::iteration_limit(opt)) break;
     // Reduced Newton step, shifted until positive definite.
     const double unit_pivot = pivot_unit(gscale);
     dd.assign(G, unit_pivot);
@@ -1634,7 +1634,7 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
   const ChainResult first = optimize_searched(start, restricted, gscale);
   ch.x = start.x;
   MinEnergyOptions rest = opt;  // the iteration cap bounds both phases together
-  rest.max_iterations = std::max(0, opt.max_iterations - first.iterations);
+  rest.max_iterations = std::max(0, detail::iteration_limit(opt) - first.iterations);
   ChainResult r = optimize_coupled(ch, rest, gscale, pb);
   r.iterations += first.iterations;
   r.window_passes += first.window_passes;
@@ -2100,7 +2100,9 @@ const Capabilities& min_energy_capabilities() {
 void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
                     FitResult& out, MinEnergyReport* report) {
   if (detail::has_data_balls(input)) {
-    detail::fit_data_balls(input, options, level, out, report);
+    MinEnergyOptions o = options;
+    o.max_iterations = options.max_iterations.value_or(MinEnergyOptions::kDefaultBallIterations);
+    detail::fit_data_balls(input, o, level, out, report);
   } else {
     detail::fit_min_energy_at(input, options, level, out, report, nullptr, nullptr);
   }
@@ -2388,10 +2390,10 @@ std::vector<MethodInfo> min_energy_methods() {
                             "beyond 90)"},
                     {.name = "max_iterations",
                      .type = OptionType::kInteger,
-                     .default_value = 200,
+                     .default_value = nullptr,
                      .min = 1.0,
                      .max = 100000.0,
-                     .doc = "projected Newton iteration limit (an error if reached)"},
+                     .doc = kMaxIterationsDoc},
                     min_energy_search_option()},
         .fit =
             [](const FitInput& in, const nlohmann::json& o, const FitOptions& f, FitResult& out) {
@@ -2410,7 +2412,8 @@ std::vector<MethodInfo> min_energy_methods() {
               opt.method.omega = o.contains("omega_deg") && !o.at("omega_deg").is_null()
                                      ? o.at("omega_deg").get<double>() * std::numbers::pi / 180.0
                                      : BasicCurveMethod::default_omega(opt.method.basis);
-              opt.max_iterations = o.at("max_iterations").get<int>();
+              if (o.contains("max_iterations"))
+                opt.max_iterations = o.at("max_iterations").get<int>();
               opt.search = parse_min_energy_search(o);
               opt.best_effort = f.best_effort;
               opt.accuracy = f.curve_accuracy();

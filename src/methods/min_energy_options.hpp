@@ -15,6 +15,15 @@ OptionSpec min_energy_search_option();
 MinEnergySearch parse_min_energy_search(const nlohmann::json& options);
 std::string min_energy_search_name(MinEnergySearch search);
 
+/// The option "max_iterations": unset (null), the limit depends on the input.
+inline constexpr const char* kMaxIterationsDoc =
+    "Newton iteration limit (an error if reached); default 200, or 1000 with data balls";
+
+/// The iteration limit of a fit with these options (MinEnergyOptions::max_iterations).
+inline int iteration_limit(const MinEnergyOptions& options) {
+  return options.max_iterations.value_or(MinEnergyOptions::kDefaultIterations);
+}
+
 /// The scale-dependent numbers of the framework's method_report (E_L = E_1/L).
 std::vector<ReportUnit> min_energy_report_units();
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 
 #include "fairspline/fit.hpp"
 #include "fairspline/methods/min_energy.hpp"
@@ -18,7 +19,8 @@ struct ElasticOptions {
   bool restricted = true;
   /// Ω in degrees; NaN: 90 (restricted) or 180.
   double omega_deg = std::numeric_limits<double>::quiet_NaN();
-  int max_iterations = 200;
+  /// Newton iteration limit; unset: as MinEnergyOptions::max_iterations.
+  std::optional<int> max_iterations;
   MinEnergySearch search = MinEnergySearch::kNewton;
   /// The output Béziers are within accuracy·(diagonal of the points' bounding box) of the exact
   /// pieces (Hausdorff distance).

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -93,7 +94,12 @@ enum class MinEnergySearch {
 struct MinEnergyOptions {
   BasicCurveMethod method;
   MinEnergySearch search = MinEnergySearch::kNewton;
-  int max_iterations = 200;
+  /// Newton iteration limit; unset: kDefaultIterations, or kDefaultBallIterations with data
+  /// balls (whose active set may change by one disc per iteration: noisy 160-point curves
+  /// needed 250–700 iterations).
+  std::optional<int> max_iterations;
+  static constexpr int kDefaultIterations = 200;
+  static constexpr int kDefaultBallIterations = 1000;
   /// Stop when the projected gradient's largest entry is below tolerance · max(1/L_i) (the
   /// natural size of the gradient for the data's chord lengths).
   double tolerance = 1e-10;
