@@ -2097,14 +2097,24 @@ const Capabilities& min_energy_capabilities() {
 
 }  // namespace
 
+int detail::default_iteration_limit(std::size_t n, bool data_balls) {
+  const double points = static_cast<double>(std::max<std::size_t>(n, 1));
+  const int grown = static_cast<int>(
+      std::ceil(MinEnergyOptions::kDefaultIterations * std::max(1.0, std::log10(points) - 2.0)));
+  return data_balls ? std::max(grown, MinEnergyOptions::kDefaultBallIterations) : grown;
+}
+
 void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, ReportLevel level,
                     FitResult& out, MinEnergyReport* report) {
-  if (detail::has_data_balls(input)) {
-    MinEnergyOptions o = options;
-    o.max_iterations = options.max_iterations.value_or(MinEnergyOptions::kDefaultBallIterations);
+  const bool balls = detail::has_data_balls(input);
+  MinEnergyOptions o = options;
+  if (!o.max_iterations) {
+    o.max_iterations = detail::default_iteration_limit(input.points.size(), balls);
+  }
+  if (balls) {
     detail::fit_data_balls(input, o, level, out, report);
   } else {
-    detail::fit_min_energy_at(input, options, level, out, report, nullptr, nullptr);
+    detail::fit_min_energy_at(input, o, level, out, report, nullptr, nullptr);
   }
 }
 

@@ -27,6 +27,7 @@
 #include "fairspline/methods/yong_cheng.hpp"
 #include "fairspline/registry.hpp"
 #include "methods/data_balls.hpp"
+#include "methods/min_energy_options.hpp"
 #include "stress/kkt.hpp"
 #include "test_util.hpp"
 
@@ -1591,6 +1592,35 @@ RC_GTEST_PROP(MinEnergyProps, InvariantUnderSimilaritiesMirrorAndReversal, ()) {
     }
   }
   RC_ASSERT(testing::is_reversed_curve(a, c, tol));
+}
+
+/// max_iterations unset: 200 up to 10³ points, then growing with log10 n (long elastic walks
+/// needed 208–397 iterations at 10⁴–10⁵ points), at least 1000 with data balls; given, it bounds
+/// the data-ball optimizer too.
+TEST(MinEnergyIterations, TheDefaultLimitGrowsWithThePointsAndDataBalls) {
+  EXPECT_EQ(detail::default_iteration_limit(3, false), 200);
+  EXPECT_EQ(detail::default_iteration_limit(1000, false), 200);
+  EXPECT_EQ(detail::default_iteration_limit(10000, false), 400);
+  EXPECT_EQ(detail::default_iteration_limit(100000, false), 600);
+  EXPECT_EQ(detail::default_iteration_limit(20, true), 1000);
+  EXPECT_EQ(detail::default_iteration_limit(1000000, true), 1000);
+  EXPECT_EQ(detail::default_iteration_limit(100000000, true), 1200);
+
+  FitInput in = input_of(random_walk(12, 7, 90));
+  in.radii.assign(in.points.size(), 0.0);
+  for (std::size_t i = 0; i < in.points.size(); ++i) {
+    double gap = HUGE_VAL;
+    if (i > 0) gap = std::min(gap, norm(in.points[i] - in.points[i - 1]));
+    if (i + 1 < in.points.size()) gap = std::min(gap, norm(in.points[i + 1] - in.points[i]));
+    in.radii[i] = 0.3 * gap;
+  }
+  const FitResult unset = fit("quasi-elastic", in);
+  EXPECT_FALSE(unset.options.contains("max_iterations"));  // a refit gets the same default
+  EXPECT_EQ(unset.method_report.at("status"), "converged");
+  const Error e = testing::expect_error(ErrorCode::kNotConverged, [&] {
+    fit("quasi-elastic", in, {{"max_iterations", 1}});
+  });
+  EXPECT_NE(std::string(e.what()).find("data-ball optimizer"), std::string::npos) << e.what();
 }
 
 }  // namespace

@@ -94,9 +94,10 @@ enum class MinEnergySearch {
 struct MinEnergyOptions {
   BasicCurveMethod method;
   MinEnergySearch search = MinEnergySearch::kNewton;
-  /// Newton iteration limit; unset: kDefaultIterations, or kDefaultBallIterations with data
-  /// balls (whose active set may change by one disc per iteration: noisy 160-point curves
-  /// needed 250–700 iterations).
+  /// Newton iteration limit. Unset: kDefaultIterations up to 10³ points and
+  /// kDefaultIterations · (log10 n − 2) beyond (400 at 10⁴, 600 at 10⁵: every late active-set
+  /// change in a long chain costs a global iteration); with data balls at least
+  /// kDefaultBallIterations (their active set may change by one disc per iteration).
   std::optional<int> max_iterations;
   static constexpr int kDefaultIterations = 200;
   static constexpr int kDefaultBallIterations = 1000;
