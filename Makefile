@@ -62,12 +62,15 @@ bench: build
 
 # `make stress STRESS_COUNT=N`: the optimizers' stress program (tools/stress; docs/hardening.md,
 # "Stress suite"): N cases, each fitted by every iterative method; failing inputs in out/stress.
+# Then data balls on 600 noisy samples of smooth curves (docs/hardening.md, "Noisy samples").
 STRESS_COUNT ?= 100000
 STRESS_SEED ?= 18
 stress: deps configure
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target fairspline_stress
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target fairspline_stress fairspline_python
 	$(BUILD_DIR)/tools/stress/fairspline_stress --seed $(STRESS_SEED) --count $(STRESS_COUNT) \
 	  --out out/stress --summary-json out/stress/summary.json
+	/usr/bin/python3 tools/stress/noisy_shapes.py --build $(BUILD_DIR) --seed $(STRESS_SEED) \
+	  --count 600 --save out/stress/noisy
 
 # `make fuzz FUZZ_SECONDS=N`: builds the libFuzzer targets of tests/fuzz with clang in
 # $(FUZZ_DIR) (library instrumented, ASan + UBSan) and runs each for N seconds on its committed

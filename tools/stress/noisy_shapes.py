@@ -11,7 +11,8 @@ fitted through discs of that radius.
 
 Usage: /usr/bin/python3 tools/stress/noisy_shapes.py [--seed S] [--count N] [--start K]
        [--methods quasi-elastic,restricted-elastic] [--max-iterations M] [--save DIR]
-(run from the repository root after `make`; it imports build/python.) Prints, per method,
+       [--build DIR]
+(after `make`; it imports the Python module built in DIR/python, default build.) Prints, per method,
 the outcomes by error code, the failing cases, and the time per fit; --save writes each
 failing input as a JSON fit request (the format of tests/data/stress).
 """
@@ -26,8 +27,6 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "build", "python"))
-import fairspline  # noqa: E402
 
 KINDS = ["circle", "ellipse", "blob", "sine", "clothoid", "track"]
 
@@ -81,7 +80,10 @@ def main():
     ap.add_argument("--methods", default="quasi-elastic,restricted-elastic")
     ap.add_argument("--max-iterations", type=int, default=None)
     ap.add_argument("--save", default=None, help="directory for the failing inputs")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="the build directory")
     args = ap.parse_args()
+    sys.path.insert(0, os.path.join(os.path.abspath(args.build), "python"))
+    import fairspline  # pylint: disable=import-outside-toplevel
     methods = args.methods.split(",")
     options = {} if args.max_iterations is None else {"max_iterations": args.max_iterations}
     outcomes = {m: {} for m in methods}
