@@ -86,6 +86,9 @@ const std::vector<std::string> kInputs = {
     // optimizer.
     "quasi-elastic-balls-not_converged-noisy-s1-c580.json",
     "quasi-elastic-balls-not_converged-noisy-s1-c595.json",
+    // An 80-point noisy ellipse that stalled (the exact phase releasing and taking back discs)
+    // until a stall restarts along the barrier's path.
+    "quasi-elastic-balls-not_converged-noisy-s2-c217.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
     "restricted-elastic-not_converged-s18-c130322.json",
@@ -121,9 +124,6 @@ const std::set<std::string> kOpen = {
     // Data balls: a noisy closed circle where ball 122, 1e-8·r inside its circle and pushed
     // outward (scaled force 17.9), stays free although put on its circle (docs/hardening.md).
     "quasi-elastic-balls-not_converged-s19-c193.json",
-    // Data balls: was a false optimum (a held barrier 1e6 times too stiff beside a near-repeated
-    // pair: force 0.026 at ball 9); with per-span barriers an honest not_converged (residual 4e-4).
-    "quasi-elastic-balls-kkt-s19-c1088.json",
 };
 
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),

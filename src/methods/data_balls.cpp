@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -497,6 +498,10 @@ constexpr double kCrossOver = 1e-3;
 /// A KKT residual the optimizer may stop at when no step lowers the energy any more.
 constexpr double kConditioningResidual = 1e-6;
 
+/// The first barrier of a restart after a stall: weak enough to keep the point near where it
+/// stalled, strong enough to pull the positions off their circles and re-decide which hold.
+constexpr double kRestartBarrier = 1e-6;
+
 // Stopped at the precision the data allow: converged to every node's rounding floor, or no step
 // lowers the energy within kConditioningResidual (or the floor).
 bool stopped_at_precision(const Outcome& o) {
@@ -555,10 +560,16 @@ class Solver {
     return f;
   }
 
-  /// Barrier stages μ = 1e-2 … 1e-12: each minimizes E − μ Σ log(1 − |p − q|²/r²)/ℓ to a
-  /// residual of μ.
-  Outcome barrier_phase() {
+  /// Barrier stages μ = first, first/10 … 1e-12: each minimizes E − μ Σ log(1 − |p − q|²/r²)/ℓ
+  /// to a residual of μ.
+  Outcome barrier_phase(double first = 1e-1) {
     Outcome total;
+    for (Node& nd : pb_.node) {  // strictly inside its disc
+      if (!nd.boundary) continue;
+      nd.boundary = false;
+      nd.o = (1.0 - kCrossOver) * nd.o;
+    }
+    chord_angles(pb_, st_);
     // The barrier's weights: per ball μ·F·r, F the energy's typical force on a position, so
     // that at the barrier's optimum a disc pressed with force f keeps a slack of about μ·r·F/f;
     // per direction box μ·T, T the typical torque on a direction. The boxes' barriers keep
@@ -578,8 +589,8 @@ class Solver {
     // Stages until every disc is either pressed to within kCrossOver·r of its circle or no
     // longer moved by the barrier (its slack changed less than a fifth in the last stage).
     std::vector<double> slack(n_, -1.0);
-    for (double mu = 1e-1; mu >= kLastBarrier && total.iterations < max_iterations_; mu *= 0.1) {
-      if (mu < 1e-1) measure_scales();
+    for (double mu = first; mu >= kLastBarrier && total.iterations < max_iterations_; mu *= 0.1) {
+      if (mu < first) measure_scales();
       const Outcome o = run(mu, std::min(kStageIterations, max_iterations_ - total.iterations),
                             std::max(mu, kConditioningResidual * 1e-2) * gscale_);
       total.iterations += o.iterations;
@@ -1366,6 +1377,24 @@ Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barr
     exact.raw = more.raw;
     exact.worst = more.worst;
     exact.iterations += more.iterations + 1;
+  }
+  // A stall short of the tolerance (no step lowers the energy, e.g. an active set that the
+  // exact phase keeps releasing and taking back): once more along the barrier's path from
+  // here, from a weak barrier (kRestartBarrier), kept if it ends better.
+  if (!exact.converged && exact.stalled && exact.residual > kConditioningResidual) {
+    const Problem before = pb;
+    const State before_st = st;
+    const Outcome again_barrier = solver.barrier_phase(kRestartBarrier);
+    solver.cross_over();
+    Outcome again = solver.run(0.0, detail::iteration_limit(options), solver.tol);
+    again.iterations += exact.iterations + again_barrier.iterations;
+    if (again.converged || again.residual < exact.residual) {
+      exact = again;
+    } else {
+      pb = before;
+      st = before_st;
+      exact.iterations = again.iterations;
+    }
   }
   exact.iterations += res.iterations;
   // Converged only to a rounding floor above the tolerance: the precision the data allow.
