@@ -3,13 +3,11 @@
 // nodes; a span's energy E_1(α, β)/L depends on its two nodes only, so the Newton system is
 // banded (a closed curve adds a border). Derivation: docs/methods/min-energy.md, "Data balls".
 #include "methods/data_balls.hpp"
-#include "methods/min_energy_options.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -25,6 +23,7 @@
 #include "detail/nodes.hpp"
 #include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
+#include "methods/min_energy_options.hpp"
 
 namespace fairspline::detail {
 
