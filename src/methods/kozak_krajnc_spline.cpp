@@ -1078,12 +1078,61 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
            solve_piece(g, 2, d3, direction(g, 2, xi2), near2, f2);
   };
   auto jump = [&](const PieceFit& f1, const PieceFit& f2) { return g2_residual(g, 1, f1, f2); };
-  auto with = [](const PieceFit& f, int i) {
+  // Piece l (1 or 2) of `f` on its solution i: its curve too (the jump reads the curve).
+  auto with = [&](const PieceFit& f, std::size_t l, int i) {
     PieceFit c = f;
     c.s = f.all.items[i];
+    c.c = kozak_krajnc_bezier(g.T[3 * l - 3], g.T[3 * l], f.d0, f.d3, c.s);
     return c;
   };
   bool any_pos = false, any_neg = false;
+  auto record = [&](double x, double r) {
+    (r > 0 ? any_pos : any_neg) = true;
+    if (std::abs(r) < out.smallest) out.smallest = std::abs(r), out.at = x;
+  };
+  // A sign change of the jump between ξ = xl (pieces l1, l2) and x, continuing those branches:
+  // bisected and polished by Newton; true when a root was found (then `out` has it).
+  auto bracket = [&](double xl, PieceFit l1, PieceFit l2, double x) {
+    PieceFit r1, r2;
+    if (!pieces_at(x, &l1, &l2, r1, r2)) return false;
+    const double jl = jump(l1, l2), jr = jump(r1, r2);
+    if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) return false;
+    double lo = xl, hi = x, jlo = jl, jhi = jr;
+    for (int it = 0; it < 80 && std::nextafter(lo, hi) != hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      PieceFit m1, m2;
+      if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
+      const double jm = jump(m1, m2);
+      if ((jm > 0) == (jlo > 0)) {
+        lo = mid, jlo = jm, l1 = m1, l2 = m2;
+      } else {
+        hi = mid, jhi = jm;
+      }
+    }
+    record(lo, jlo);
+    record(hi, jhi);
+    std::vector<double> xi = {xi0, lo, xi2};
+    std::vector<PieceFit> fit = {PieceFit{}, l1, l2};
+    const G2Report rep = solve_g2(g, xi, pinned, max_iterations, fit);
+    if (rep.converged) {
+      out.found = true, out.xi = xi, out.pieces = std::move(fit), out.rep = rep;
+      return true;
+    }
+    // The sign change between two adjacent doubles of ξ with a small jump: a root that double
+    // precision cannot resolve to the tolerance (a 5-point request: 8e-9 and −4e-9 on either
+    // side of one ulp). A larger value on either side is a discontinuity.
+    if (std::nextafter(lo, hi) == hi && std::abs(jlo) <= kG2Resolved &&
+        std::abs(jhi) <= kG2Resolved) {
+      out.found = true, out.xi = {xi0, lo, xi2}, out.pieces = {PieceFit{}, l1, l2};
+      out.rep = G2Report{.converged = false,
+                         .at_precision = true,
+                         .iterations = rep.iterations,
+                         .residual = std::abs(jlo),
+                         .reason = "the jump changes sign between adjacent doubles of ξ"};
+      return true;
+    }
+    return false;
+  };
   // The grid over (x0, x1) in `cells` cells; true when a root was polished (then `out` has it).
   auto scan = [&](double x0, double x1, int cells) {
     bool prev_ok = false;
@@ -1094,55 +1143,17 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
       if (ok) {
         for (int a = 0; a < q1.all.count; ++a) {
           for (int b = 0; b < q2.all.count; ++b) {
-            const PieceFit f1 = with(q1, a), f2 = with(q2, b);
-            const double r = jump(f1, f2);
-            if (!std::isfinite(r)) continue;
-            (r > 0 ? any_pos : any_neg) = true;
-            if (std::abs(r) < out.smallest) out.smallest = std::abs(r), out.at = x;
+            const double r = jump(with(q1, 1, a), with(q2, 2, b));
+            if (std::isfinite(r)) record(x, r);
           }
         }
       }
       if (ok && prev_ok) {
         // Every pair at the previous point, continued here: a sign change brackets a root.
+        const double xl = x0 + (x1 - x0) * (k - 1) / cells;
         for (int a = 0; a < p1.all.count; ++a) {
           for (int b = 0; b < p2.all.count; ++b) {
-            PieceFit l1 = with(p1, a), l2 = with(p2, b), r1, r2;
-            const double xl = x0 + (x1 - x0) * (k - 1) / cells;
-            if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
-            const double jl = jump(l1, l2), jr = jump(r1, r2);
-            if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) continue;
-            double lo = xl, hi = x, jlo = jl, jhi = jr;
-            for (int it = 0; it < 80 && std::nextafter(lo, hi) < hi; ++it) {
-              const double mid = 0.5 * (lo + hi);
-              PieceFit m1, m2;
-              if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
-              const double jm = jump(m1, m2);
-              if ((jm > 0) == (jlo > 0)) {
-                lo = mid, jlo = jm, l1 = m1, l2 = m2;
-              } else {
-                hi = mid, jhi = jm;
-              }
-            }
-            std::vector<double> xi = {xi0, lo, xi2};
-            std::vector<PieceFit> fit = {PieceFit{}, l1, l2};
-            const G2Report rep = solve_g2(g, xi, pinned, max_iterations, fit);
-            if (rep.converged) {
-              out.found = true, out.xi = xi, out.pieces = std::move(fit), out.rep = rep;
-              return true;
-            }
-            // The sign change between two adjacent doubles of ξ with a small jump: a root that
-            // double precision cannot resolve to the tolerance (a 5-point request: 8e-9 and
-            // −4e-9 on either side of one ulp). A larger value on either side is a discontinuity.
-            if (std::nextafter(lo, hi) >= hi && std::abs(jlo) <= kG2Resolved &&
-                std::abs(jhi) <= kG2Resolved) {
-              out.found = true, out.xi = {xi0, lo, xi2}, out.pieces = {PieceFit{}, l1, l2};
-              out.rep = G2Report{.converged = false,
-                                 .at_precision = true,
-                                 .iterations = rep.iterations,
-                                 .residual = std::abs(jlo),
-                                 .reason = "the jump changes sign between adjacent doubles of ξ"};
-              return true;
-            }
+            if (bracket(xl, with(p1, 1, a), with(p2, 2, b), x)) return true;
           }
         }
       }
@@ -1151,11 +1162,52 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
     }
     return false;
   };
+  // From the grid's first (or last) point towards ξ = 0 (or 1), where the grid has no point:
+  // each step halves the distance to the edge (ξ = edge ∓ step·2⁻ᵏ), or, once the pieces lose
+  // their solutions, to the nearest point known to have none, every branch continued, until the
+  // doubles run out. A sign change is bracketed as on the grid (issue 18: roots 1.7e-4 from
+  // ξ = 0, and 1.2e-5 from ξ = 1 just before the pieces lose their solutions, lay in the grid's
+  // end cells). `lost_edge`: the pieces lost their solutions on the way. True when a root was
+  // found.
+  bool lost_edge[2] = {false, false};
+  auto follow = [&](bool low, double step) {
+    const double dir = low ? 1.0 : -1.0;
+    double target = low ? 0.0 : 1.0, x_prev = target + dir * step;
+    PieceFit c1, c2;
+    if (!pieces_at(x_prev, nullptr, nullptr, c1, c2)) return false;
+    for (int k = 0; k < 120; ++k) {
+      const double x = 0.5 * (x_prev + target);
+      if (x == x_prev || x == target) break;
+      bool any = false;
+      PieceFit n1, n2;
+      for (int a = 0; a < c1.all.count; ++a) {
+        for (int b = 0; b < c2.all.count; ++b) {
+          const PieceFit l1 = with(c1, 1, a), l2 = with(c2, 2, b);
+          PieceFit r1, r2;
+          if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
+          const double jl = jump(l1, l2), jr = jump(r1, r2);
+          if (!std::isfinite(jr)) continue;
+          if (!any) n1 = r1, n2 = r2, any = true;
+          record(x, jr);
+          if (std::isfinite(jl) && (jl > 0) != (jr > 0) && bracket(x_prev, l1, l2, x)) {
+            return true;
+          }
+        }
+      }
+      if (any) {
+        c1 = n1, c2 = n2, x_prev = x;
+      } else {
+        target = x, lost_edge[low ? 0 : 1] = true;
+      }
+    }
+    return false;
+  };
   double step = 1.0 / kGrid;
   // A tenth of the grid first: where a root exists it is usually found there, at a tenth of the
   // cost (each piece solve near a root cluster costs ~50 µs: a 9-point request with a
   // near-repeated pair took 5.3 s, issue 18); the full grid is what proves there is none.
   if (scan(0.0, 1.0, kGrid / 10) || scan(0.0, 1.0, kGrid)) return out;
+  if (follow(true, step) || follow(false, step)) return out;
   if (!any_pos && !any_neg && xi1 > 0.0 && xi1 < 1.0) {
     // No grid point admits both pieces, but the G1 solution's ξ1 does (near-repeated points):
     // the admissible ξ1 around it is narrower than a cell. Its ends by doubling steps and
@@ -1185,52 +1237,22 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
     }
   }
   out.sign = any_pos && !any_neg ? 1 : (any_neg && !any_pos ? -1 : 0);
-  PieceFit e1, e2;
-  const bool edge = !(out.at - step > 0.0 && pieces_at(out.at - step, nullptr, nullptr, e1, e2)) ||
-                    !(out.at + step < 1.0 && pieces_at(out.at + step, nullptr, nullptr, e1, e2));
-  out.where = edge ? "at the edge of the admissible ξ, where a piece loses its solutions"
-                   : "inside the admissible ξ";
-  // Smallest at the grid's first or last point: the jump may still fall towards ξ1 = 0 or 1,
-  // where the direction meets a chord. Followed there geometrically (ξ = edge ∓ step·2⁻ᵏ, every
-  // branch continued) down to the spacing of doubles: a sign change is polished as above;
-  // otherwise the jump keeps its sign up to the edge, which is not admissible (issue 18:
-  // s18-m60-c3050, jump ~ (1 − ξ)³ · 10¹⁰ of one sign).
+  // Where the least jump lies: at an end of the grid the edge was followed (above) and the
+  // jump fell towards it, e.g. like (1 − ξ)³ (s18-m60-c3050).
   const bool low = out.at <= 1.5 * step, high = out.at >= 1.0 - 1.5 * step;
-  if (out.sign != 0 && (low || high)) {
-    const double x_edge = low ? 0.0 : 1.0, dir = low ? 1.0 : -1.0;
-    PieceFit c1, c2;
-    double x_prev = x_edge + dir * step;
-    if (!pieces_at(x_prev, nullptr, nullptr, c1, c2)) {
-      out.sign = 0;  // (not reached: the smallest jump was found there)
-      return out;
-    }
-    bool lost = false;
-    for (int k = 1; k <= 60; ++k) {
-      const double x = x_edge + dir * std::ldexp(step, -k);
-      if (x == x_edge || x == x_prev) break;
-      bool any = false;
-      for (int a = 0; a < c1.all.count; ++a) {
-        for (int b = 0; b < c2.all.count; ++b) {
-          PieceFit l1 = with(c1, a), l2 = with(c2, b), r1, r2;
-          if (!pieces_at(x, &l1, &l2, r1, r2)) continue;
-          const double jl = jump(l1, l2), jr = jump(r1, r2);
-          if (!std::isfinite(jr)) continue;
-          any = true;
-          if (std::abs(jr) < out.smallest) out.smallest = std::abs(jr), out.at = x;
-          if (std::isfinite(jl) && (jl > 0) != (jr > 0)) {
-            out.sign = 0;  // a root near the edge: left to Newton's report (not met so far)
-            return out;
-          }
-        }
-      }
-      lost = !any || !pieces_at(x, &c1, &c2, e1, e2);
-      if (lost) break;  // the pieces lose their solutions before the edge
-      c1 = e1, c2 = e2, x_prev = x;
-    }
+  if (low || high) {
+    const bool lost = lost_edge[low ? 0 : 1];
     out.where = lost ? "falling towards ξ = " + std::string(low ? "0" : "1") +
                            " until the pieces lose their solutions"
                      : "falling to zero only at ξ = " + std::string(low ? "0" : "1") +
                            ", where the direction meets a chord (not admissible)";
+  } else {
+    PieceFit e1, e2;
+    const bool edge =
+        !(out.at - step > 0.0 && pieces_at(out.at - step, nullptr, nullptr, e1, e2)) ||
+        !(out.at + step < 1.0 && pieces_at(out.at + step, nullptr, nullptr, e1, e2));
+    out.where = edge ? "at the edge of the admissible ξ, where a piece loses its solutions"
+                     : "inside the admissible ξ";
   }
   return out;
 }
@@ -1562,6 +1584,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       }
     }
   }
+  std::string scan_note;  // what a scan found, when it ran and did not settle (1.4)
   if (!o.rep.converged && m == 2 && !p.fixed[1]) {
     // One unknown ξ1 between the tangent rule's end directions: (1.4) is one equation in one
     // variable, settled either way by a scan of every admissible ξ1 and every pair of piece
@@ -1587,9 +1610,15 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                       " at ξ = " + detail::format_number(scan.at) + ", " + scan.where +
                       "); ask for a best effort to get the G1 spline instead",
                   3);
+    } else if (!scan.found && scan.sign == 0 && scan.smallest < kInf) {
+      // Both signs, but on different solutions of the pieces (or one branch's sign change that
+      // no polish resolved): neither a root nor a proof that none exists.
+      scan_note = "; a scan of every ξ at " + pt(3) +
+                  " found jumps of both signs but no sign change that polishes to a root (least " +
+                  detail::format_number(scan.smallest) +
+                  " at ξ = " + detail::format_number(scan.at) + ")";
     }
   }
-  std::string scan_note;  // what the chain scan found, when it ran and did not settle (1.4)
   std::vector<char> pinned(m + 1, 0);
   std::size_t free_inner = 0;
   for (std::size_t l = 0; l <= m; ++l) {

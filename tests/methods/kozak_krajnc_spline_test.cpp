@@ -14,6 +14,7 @@
 #include "fairspline/error.hpp"
 #include "fairspline/methods/kozak_krajnc.hpp"
 #include "fairspline/registry.hpp"
+#include "stress/kkt.hpp"
 #include "test_util.hpp"
 
 namespace fairspline {
@@ -415,6 +416,77 @@ TEST(KozakKrajncSpline, G2RootBeyondDoublePrecisionIsAConditioningLimit) {
   const double chord =
       0.5 * (norm(in.points[3] - in.points[2]) + norm(in.points[4] - in.points[3]));
   EXPECT_LE(std::abs(kl - kr) * chord, 1e-6);
+}
+
+TEST(KozakKrajncSpline, G2ScanFollowsARootIntoTheGridsFirstCell) {
+  // Two pieces and a near-repeated pair (stress case s40-c12221): the jump at T3 changes sign at
+  // ξ1 = 1.7e-4, inside the first cell of the scan's 4000-point grid, and is positive (~7800)
+  // on the whole grid. Newton crept towards ξ1 = 1; the scan's walk from its first point
+  // towards ξ1 = 0 brackets the root (it used to stop there and report not_converged).
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {8.18955503281589, 0.4457867204268956},
+               {37.87060323131593, 9.125021518192167},
+               {37.87060341146015, 9.125021631720045},
+               {37.87053495108267, 9.125128335842085},
+               {32.729603982244036, 15.242482187834907},
+               {6.482643020244754, 17.333787439966365}};
+  const FitResult r = fit("kozak-krajnc", in, {{"g2", true}, {"remainder", "hermite"}});
+  const auto& rep = r.method_report.at("g2");
+  ASSERT_TRUE(rep.at("converged").get<bool>()) << rep.dump();
+  EXPECT_EQ(rep.at("start"), "scan");
+  EXPECT_LE(rep.at("max_scaled_curvature_jump").get<double>(), 1e-10);
+  // From the Béziers alone: the jump within the certificate's tolerance and the rounding of
+  // control points beside a chord of 2e-7 (its allowance; 1.4e-5 read off here).
+  const stress::KktResult k = stress::check_optimum(in, r);
+  EXPECT_TRUE(k.checked && k.pass) << k.what;
+}
+
+TEST(KozakKrajncSpline, G2ScanFollowsARootToWhereAPieceLosesItsSolutions) {
+  // Two pieces (stress case s40-c2132): on the grid's last point the right piece has two
+  // solutions, one with a jump of 3.9 and one with −2.3e-4; the first falls to zero at
+  // ξ1 = 0.999988, just before the pieces lose their solutions at ~0.999992. The walk towards
+  // ξ1 = 1 halves its way to the nearest point without solutions and brackets the root, which
+  // lies between two adjacent doubles of ξ1 (a conditioning limit, not an error).
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {1865.206776822419, -2725.6558079907677},
+               {4361.954062565607, -4862.942446630308},
+               {4431.189526389016, -4922.209977143222},
+               {4431.189868327068, -4922.210269812145},
+               {4500.8488508092405, -4981.836838698451},
+               {4687.1091680859745, -5141.27061236619},
+               {5116.7998883433165, -5509.075664059845}};
+  const FitResult r = fit("kozak-krajnc", in,
+                          {{"g2", true}, {"gamma", 0.4533995309445078}, {"remainder", "hermite"}});
+  const auto& rep = r.method_report.at("g2");
+  EXPECT_EQ(rep.at("status"), "conditioning_limit") << rep.dump();
+  EXPECT_EQ(rep.at("start"), "scan");
+  EXPECT_LE(rep.at("max_scaled_curvature_jump").get<double>(), 1e-6);
+  const stress::KktResult k = stress::check_optimum(in, r);
+  EXPECT_TRUE(k.checked && k.pass) << k.what;
+}
+
+TEST(KozakKrajncSpline, G2ScanReadsTheJumpOfEverySolutionOffItsOwnCurve) {
+  // Two pieces and a near-repeated pair (stress case s40-c3554 of `--max-points 9`). The right
+  // piece has two solutions over part of ξ1; the scan read the jump of every pair off the
+  // least-energy pair's curves, saw it negative everywhere (least 5.1e6) and refused the request
+  // as infeasible. The other solution's jump changes sign: a G2 spline exists.
+  FitInput in;
+  in.points = {{0.0, 0.0},
+               {11.562280068237941, 819.8832218239519},
+               {7.7310685053800166, 872.6589658376206},
+               {7.73106821818795, 872.6589723964911},
+               {11.35564806294686, 961.4259598788976},
+               {-43.414293661301286, 1234.3937738070686},
+               {-52.2599249333051, 1286.2042749657671}};
+  const FitResult r = fit("kozak-krajnc", in, {{"g2", true}, {"remainder", "hermite"}});
+  const auto& rep = r.method_report.at("g2");
+  ASSERT_TRUE(rep.at("converged").get<bool>()) << rep.dump();
+  EXPECT_EQ(rep.at("start"), "scan");
+  EXPECT_LE(rep.at("max_scaled_curvature_jump").get<double>(), 1e-10);
+  const stress::KktResult k = stress::check_optimum(in, r);
+  EXPECT_TRUE(k.checked && k.pass) << k.what;
 }
 
 TEST(KozakKrajncSpline, G2ChainScanFindsARootNewtonMisses) {
