@@ -80,6 +80,7 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s40-c2132.json",
     "kozak-krajnc-not_converged-s40-c7446.json",
     "quasi-elastic-balls-kkt-s19-c1088.json",
+    "quasi-elastic-balls-kkt-s41-c167.json",
     "quasi-elastic-balls-not_converged-s19-c1346.json",
     "quasi-elastic-balls-not_converged-s19-c1401.json",
     "quasi-elastic-balls-not_converged-s19-c193.json",
