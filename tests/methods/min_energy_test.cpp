@@ -1598,13 +1598,21 @@ RC_GTEST_PROP(MinEnergyProps, InvariantUnderSimilaritiesMirrorAndReversal, ()) {
 /// needed 208–397 iterations at 10⁴–10⁵ points), at least 1000 with data balls; given, it bounds
 /// the data-ball optimizer too.
 TEST(MinEnergyIterations, TheDefaultLimitGrowsWithThePointsAndDataBalls) {
-  EXPECT_EQ(detail::default_iteration_limit(3, false), 200);
-  EXPECT_EQ(detail::default_iteration_limit(1000, false), 200);
-  EXPECT_EQ(detail::default_iteration_limit(10000, false), 400);
-  EXPECT_EQ(detail::default_iteration_limit(100000, false), 600);
-  EXPECT_EQ(detail::default_iteration_limit(20, true), 1000);
-  EXPECT_EQ(detail::default_iteration_limit(1000000, true), 1000);
-  EXPECT_EQ(detail::default_iteration_limit(100000000, true), 1200);
+  constexpr MinEnergyBasis qe = MinEnergyBasis::kCondG2, el = MinEnergyBasis::kElastic;
+  EXPECT_EQ(detail::default_iteration_limit(3, false, qe), 200);
+  EXPECT_EQ(detail::default_iteration_limit(1000, false, qe), 200);
+  EXPECT_EQ(detail::default_iteration_limit(10000, false, qe), 400);
+  EXPECT_EQ(detail::default_iteration_limit(100000, false, qe), 600);
+  EXPECT_EQ(detail::default_iteration_limit(20, true, qe), 1000);
+  EXPECT_EQ(detail::default_iteration_limit(1000000, true, qe), 1000);
+  EXPECT_EQ(detail::default_iteration_limit(100000000, true, qe), 1200);
+  // The elastic spline: twice the growth, 400 (log10 n − 2) from 316 points (623 iterations at
+  // 10⁵, ±150°).
+  EXPECT_EQ(detail::default_iteration_limit(300, false, el), 200);
+  EXPECT_EQ(detail::default_iteration_limit(1000, false, el), 400);
+  EXPECT_EQ(detail::default_iteration_limit(10000, false, el), 800);
+  EXPECT_EQ(detail::default_iteration_limit(100000, false, el), 1200);
+  EXPECT_EQ(detail::default_iteration_limit(100000, true, el), 1200);
 
   FitInput in = input_of(random_walk(12, 7, 90));
   in.radii.assign(in.points.size(), 0.0);

@@ -96,7 +96,9 @@ struct MinEnergyOptions {
   MinEnergySearch search = MinEnergySearch::kNewton;
   /// Newton iteration limit. Unset: kDefaultIterations up to 10³ points and
   /// kDefaultIterations · (log10 n − 2) beyond (400 at 10⁴, 600 at 10⁵: every late active-set
-  /// change in a long chain costs a global iteration); with data balls at least
+  /// change in a long chain costs a global iteration); for the elastic spline
+  /// 2 kDefaultIterations · (log10 n − 2) from 316 points (800 at 10⁴, 1200 at 10⁵: a 10⁵-point
+  /// walk within ±150° needed 623); with data balls at least
   /// kDefaultBallIterations (their active set may change by one disc per iteration).
   std::optional<int> max_iterations;
   static constexpr int kDefaultIterations = 200;
