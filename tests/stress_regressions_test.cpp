@@ -85,6 +85,7 @@ const std::vector<std::string> kInputs = {
     "quasi-elastic-balls-not_converged-s19-c1401.json",
     "quasi-elastic-balls-not_converged-s19-c193.json",
     "quasi-elastic-balls-not_converged-s19-c914.json",
+    "quasi-elastic-balls-not_converged-s41-c1631.json",
     // Noisy samples of smooth curves (tools/stress/noisy_shapes.py): a 320-point clothoid and
     // a 320-point ellipse that stopped at the former 200-iteration default of the data-ball
     // optimizer.

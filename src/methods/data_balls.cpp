@@ -497,6 +497,10 @@ constexpr double kCrossOver = 1e-3;
 /// A KKT residual the optimizer may stop at when no step lowers the energy any more.
 constexpr double kConditioningResidual = 1e-6;
 
+/// Iterations without the projected gradient falling below 0.9 of its best after which
+/// multipliers of the wrong sign are released whatever the projected gradient.
+constexpr int kStuckIterations = 10;
+
 /// The first barrier of a restart after a stall: weak enough to keep the point near where it
 /// stalled, strong enough to pull the positions off their circles and re-decide which hold.
 constexpr double kRestartBarrier = 1e-6;
@@ -687,7 +691,7 @@ class Solver {
   /// mu > 0 the discs are kept by the barrier, with mu = 0 by active constraints.
   Outcome run(double mu, int budget, double target) {
     Outcome o;
-    int flat = 0;
+    int flat = 0, stuck = 0;
     double best_pg = HUGE_VAL;
     // Without a barrier, the point of least residual so far: where the energy's rounding lets
     // steps wander (the elastic energies, to ~1e-12), a stop returns it rather than the last.
@@ -733,8 +737,13 @@ class Solver {
       const double rounding = relative_rounding_ * std::abs(phi);
       // A constraint is freed once the point is stationary on its face (else the Newton step
       // can point out through it again).
-      const double free_at = std::max(target, pg);
+      // Not when the projected gradient stays where it is, though: then the multipliers'
+      // wrong signs are what is left to correct (s41-c1631: 0.13 held for 60 iterations while
+      // the projected gradient elsewhere stayed at 2.1).
+      stuck = pg >= 0.9 * best_pg ? stuck + 1 : 0;
+      const double free_at = stuck >= kStuckIterations ? target : std::max(target, pg);
       if (wrong > free_at && release(free_at)) {
+        stuck = 0;
         border = number_unknowns(pb_, scale_);
         phi = evaluate(mu, border);
       } else if (mu == 0.0 && activate_squeezed()) {
