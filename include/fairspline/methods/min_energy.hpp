@@ -132,6 +132,9 @@ struct MinEnergyReport {
   /// Long chains (≥ 4096 nodes): how many times the few nodes left above the tolerance were
   /// solved in windows of their own (each counts as an iteration too; docs/methods/min-energy.md).
   int window_passes = 0;
+  /// The windows those passes solved, and the Newton iterations they took in all (each window
+  /// starts near its optimum: a few iterations apiece).
+  int windows = 0, window_iterations = 0;
   double energy = 0.0;
   double projected_gradient = 0.0;  ///< final, relative (see MinEnergyOptions::tolerance)
   std::vector<std::size_t> active;  ///< points whose direction sits on a bound of D_i
