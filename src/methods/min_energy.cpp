@@ -683,8 +683,8 @@ Chain window_chain(const Chain& ch, std::size_t first, std::size_t count) {
 /// Solves the windows around the nodes whose projected residual exceeds the tolerance, when
 /// there are few of them (at most k/128); returns whether any was solved (the caller then
 /// re-evaluates). `v`: each node's projected residual.
-bool solve_windows(Chain& ch, const MinEnergyOptions& opt, double gscale,
-                   std::span<const double> g, ChainResult& res) {
+bool solve_windows(Chain& ch, const MinEnergyOptions& opt, double gscale, std::span<const double> g,
+                   ChainResult& res) {
   const std::size_t k = ch.node.size();
   // Counted before they are listed: early on every node is above the tolerance, and listing
   // them all was a vector of k indices per iteration (and its growth, at the fit's peak memory).
