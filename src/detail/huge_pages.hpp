@@ -15,8 +15,8 @@ namespace fairspline::detail {
 void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 
 /// v.resize(n), the new storage advised before anything touches it (reserve does not).
-template <typename T>
-void resize_huge(std::vector<T>& v, std::size_t n) {
+template <typename T, typename A>
+void resize_huge(std::vector<T, A>& v, std::size_t n) {
   if (n > v.capacity()) {
     v.reserve(n);
     advise_huge_pages(v.data(), n * sizeof(T));
@@ -25,10 +25,10 @@ void resize_huge(std::vector<T>& v, std::size_t n) {
 }
 
 /// v.assign(n, value), advised as resize_huge.
-template <typename T>
-void assign_huge(std::vector<T>& v, std::size_t n, const T& value) {
+template <typename T, typename A>
+void assign_huge(std::vector<T, A>& v, std::size_t n, const T& value) {
   if (n > v.capacity()) {
-    std::vector<T>().swap(v);  // no copy of the old contents
+    std::vector<T, A>(v.get_allocator()).swap(v);  // no copy of the old contents
     v.reserve(n);
     advise_huge_pages(v.data(), n * sizeof(T));
   }

@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <memory_resource>
 #include <numbers>
 #include <optional>
 #include <queue>
@@ -231,20 +232,56 @@ class Scratch {
 
 /// One independent chain of nodes (the whole curve, or a piece between corners).
 struct Chain {
+  /// The solver-only arrays (ca … hi, fixed, a, b) from `solver` (a fit's SolverArena; copies
+  /// and windows use the default resource).
+  explicit Chain(std::pmr::memory_resource* solver = std::pmr::get_default_resource())
+      : ca(solver),
+        sa(solver),
+        cb(solver),
+        sb(solver),
+        lo(solver),
+        hi(solver),
+        fixed(solver),
+        a(solver),
+        b(solver) {}
   bool closed = false;
   std::vector<std::size_t> node;  // point indices
   // Per node: α of the next segment = x + a, β of the previous = x + b; x ∈ [lo, hi].
   std::vector<Vec2> ref;  // per node: unit reference direction (x = 0)
-  std::vector<double> ca, sa, cb, sb, lo, hi, x;
-  std::vector<char> fixed;
-  std::vector<double> w;     // per segment: 1 / L
-  std::vector<double> a, b;  // per node: the offsets as angles, atan2(sa, ca), atan2(sb, cb)
+  std::pmr::vector<double> ca, sa, cb, sb, lo, hi;
+  std::vector<double> x;
+  std::pmr::vector<char> fixed;
+  std::vector<double> w;          // per segment: 1 / L
+  std::pmr::vector<double> a, b;  // per node: the offsets as angles, atan2(sa, ca), atan2(sb, cb)
   /// Per node: the corner angle from its incoming to its outgoing direction (node model); the
   /// offsets a above already see the next chord turned back by it.
   std::vector<double> corner;
   /// Elastic bases: per segment, the warm start of its root-find (a cache, hence mutable).
   mutable std::vector<detail::ElasticaHint> hint;
   std::size_t segments() const { return closed ? node.size() : node.size() - 1; }
+};
+
+/// The chains' solver-only arrays of one fit in one block: it spans transparent huge pages
+/// (each array alone is under one at 10^5 nodes, and their 4 KiB pages were two thirds of a
+/// fit's page faults), and it is freed at once when the optimizer is done, before the result is
+/// allocated (so the peak memory does not grow).
+class SolverArena {
+ public:
+  explicit SolverArena(std::size_t bytes)
+      : block_(std::make_unique_for_overwrite<std::byte[]>(bytes)) {
+    detail::advise_huge_pages(block_.get(), bytes);
+    pool_.emplace(block_.get(), bytes, std::pmr::new_delete_resource());
+  }
+  std::pmr::memory_resource* resource() { return &*pool_; }
+  /// Frees the memory; every array from it must be empty by then (release_solver_arrays).
+  void release() {
+    pool_.reset();
+    block_.reset();
+  }
+
+ private:
+  std::unique_ptr<std::byte[]> block_;
+  std::optional<std::pmr::monotonic_buffer_resource> pool_;  // over block_, then the heap
 };
 
 struct Evaluation {
@@ -1742,8 +1779,9 @@ std::string omega_limit(MinEnergyBasis basis) {
 
 /// The chains of the input (split at free sides) with references, bounds and fixed directions.
 /// Throws Error(kInfeasible) listing every node whose feasible range is empty.
+/// The chains of a fit; with `arena`, their solver-only arrays come from one it emplaces.
 std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, double omega,
-                                MinEnergyBasis basis) {
+                                MinEnergyBasis basis, std::optional<SolverArena>* arena = nullptr) {
   const std::vector<Point>& P = out.points;
   const std::size_t n = P.size();
   const bool closed = out.closed;
@@ -1775,8 +1813,15 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
     if (node_at(i).splits() && (closed || (i > 0 && i + 1 < n))) cuts.push_back(i);
   }
   std::vector<Chain> chains;
+  std::pmr::memory_resource* solver = std::pmr::get_default_resource();
+  if (arena) {
+    // Eight doubles and a flag per node; a chain ends where the next starts (+1 node each).
+    const std::size_t nodes = n + cuts.size() + 1, arrays = 9;
+    arena->emplace((8 * sizeof(double) + 1) * nodes + arrays * 64 * (cuts.size() + 1));
+    solver = (*arena)->resource();
+  }
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
-    Chain ch;
+    Chain ch(solver);
     ch.closed = cyclic;
     detail::resize_huge(ch.node, count);
     for (std::size_t k = 0, i = first % n; k < count; ++k, i = i + 1 == n ? 0 : i + 1) {
@@ -2041,10 +2086,11 @@ void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale) {
 /// Frees what only the optimizer reads, once a chain's directions are final: the output needs
 /// the nodes, their directions (ref, x, corner), the weights and the elastic hints.
 void release_solver_arrays(Chain& ch) {
-  for (std::vector<double>* v : {&ch.ca, &ch.sa, &ch.cb, &ch.sb, &ch.lo, &ch.hi, &ch.a, &ch.b}) {
-    std::vector<double>().swap(*v);
+  for (std::pmr::vector<double>* v :
+       {&ch.ca, &ch.sa, &ch.cb, &ch.sb, &ch.lo, &ch.hi, &ch.a, &ch.b}) {
+    std::pmr::vector<double>(v->get_allocator()).swap(*v);
   }
-  std::vector<char>().swap(ch.fixed);
+  std::pmr::vector<char>(ch.fixed.get_allocator()).swap(ch.fixed);
 }
 
 /// The exact elastic piece of one span and its Béziers within accuracy·|p1 − p0| (at least
@@ -2210,7 +2256,8 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   // The elastic domain is open at 180°: the boxes stop 1e-12 short of it.
   const double omega =
       m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPairLimit) : m.omega;
-  std::vector<Chain> chains = build_chains(out, input, omega, m.basis);
+  std::optional<SolverArena> arena;  // outlives the chains, released once they are optimized
+  std::vector<Chain> chains = build_chains(out, input, omega, m.basis, &arena);
   if (warm) start_from(*warm, n, chains);
   if (dirs) dirs->resize(out.closed ? n : n - 1);
   const bool elastic = is_elastic(m.basis);
@@ -2275,6 +2322,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     }
     release_solver_arrays(ch);
   }
+  if (arena) arena->release();
   // The result's Béziers and tangents only now, when the optimizer's work arrays are gone (a
   // long fit held both at once: its peak memory).
   out.spline.closed = out.closed;
