@@ -232,30 +232,36 @@ class Scratch {
 
 /// One independent chain of nodes (the whole curve, or a piece between corners).
 struct Chain {
-  /// The solver-only arrays (ca … hi, fixed, a, b) from `solver` (a fit's SolverArena; copies
-  /// and windows use the default resource).
-  explicit Chain(std::pmr::memory_resource* solver = std::pmr::get_default_resource())
-      : ca(solver),
+  /// The solver-only arrays (ca … hi, fixed, a, b) from `solver`, those the output reads too
+  /// (node, ref, w, corner) from `kept` (a fit's arenas; copies and windows use the default
+  /// resource).
+  explicit Chain(std::pmr::memory_resource* solver = std::pmr::get_default_resource(),
+                 std::pmr::memory_resource* kept = std::pmr::get_default_resource())
+      : node(kept),
+        ref(kept),
+        ca(solver),
         sa(solver),
         cb(solver),
         sb(solver),
         lo(solver),
         hi(solver),
         fixed(solver),
+        w(kept),
         a(solver),
-        b(solver) {}
+        b(solver),
+        corner(kept) {}
   bool closed = false;
-  std::vector<std::size_t> node;  // point indices
+  std::pmr::vector<std::size_t> node;  // point indices
   // Per node: α of the next segment = x + a, β of the previous = x + b; x ∈ [lo, hi].
-  std::vector<Vec2> ref;  // per node: unit reference direction (x = 0)
+  std::pmr::vector<Vec2> ref;  // per node: unit reference direction (x = 0)
   std::pmr::vector<double> ca, sa, cb, sb, lo, hi;
-  std::vector<double> x;
+  std::vector<double> x;  // swapped with the optimizer's trial points
   std::pmr::vector<char> fixed;
-  std::vector<double> w;          // per segment: 1 / L
+  std::pmr::vector<double> w;     // per segment: 1 / L
   std::pmr::vector<double> a, b;  // per node: the offsets as angles, atan2(sa, ca), atan2(sb, cb)
   /// Per node: the corner angle from its incoming to its outgoing direction (node model); the
   /// offsets a above already see the next chord turned back by it.
-  std::vector<double> corner;
+  std::pmr::vector<double> corner;
   /// Elastic bases: per segment, the warm start of its root-find (a cache, hence mutable).
   mutable std::vector<detail::ElasticaHint> hint;
   std::size_t segments() const { return closed ? node.size() : node.size() - 1; }
@@ -1779,23 +1785,15 @@ std::string omega_limit(MinEnergyBasis basis) {
 
 /// The chains of the input (split at free sides) with references, bounds and fixed directions.
 /// Throws Error(kInfeasible) listing every node whose feasible range is empty.
-/// The chains of a fit; with `arena`, their solver-only arrays come from one it emplaces.
+/// The chains of a fit. With `arena`, their solver-only arrays (and the set-up's chords) come
+/// from one it emplaces, and with `kept` the arrays the output reads too.
 std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, double omega,
-                                MinEnergyBasis basis, std::optional<SolverArena>* arena = nullptr) {
+                                MinEnergyBasis basis, std::optional<SolverArena>* arena = nullptr,
+                                std::optional<SolverArena>* kept = nullptr) {
   const std::vector<Point>& P = out.points;
   const std::size_t n = P.size();
   const bool closed = out.closed;
   const std::size_t segs = closed ? n : n - 1;
-  std::vector<Vec2> unit;  // unit chords
-  std::vector<double> len;
-  detail::resize_huge(unit, segs);
-  detail::resize_huge(len, segs);
-  for (std::size_t s = 0; s < segs; ++s) {
-    const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
-    const double l2 = c.x * c.x + c.y * c.y;  // sqrt is much cheaper than hypot; hypot only
-    len[s] = l2 > 1e-290 && l2 < 1e290 ? std::sqrt(l2) : norm(c);  // where squares misbehave
-    unit[s] = (1.0 / len[s]) * c;
-  }
   // Points alone (no kinds, states, tangents or corners): every node resolves to the default,
   // so none is materialized (the vector was 64 bytes a point, 3% of a fit and its page faults).
   const bool plain = input.kinds.empty() && input.states.empty() && input.tangents.empty() &&
@@ -1814,14 +1812,37 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   }
   std::vector<Chain> chains;
   std::pmr::memory_resource* solver = std::pmr::get_default_resource();
+  std::pmr::memory_resource* kept_arrays = std::pmr::get_default_resource();
+  // A chain ends where the next starts (+1 node each); 64 bytes of alignment slack an array.
+  const std::size_t chain_nodes = n + cuts.size() + 1, slack = 64 * (cuts.size() + 1);
   if (arena) {
-    // Eight doubles and a flag per node; a chain ends where the next starts (+1 node each).
-    const std::size_t nodes = n + cuts.size() + 1, arrays = 9;
-    arena->emplace((8 * sizeof(double) + 1) * nodes + arrays * 64 * (cuts.size() + 1));
+    // Eight doubles and a flag per node.
+    arena->emplace((8 * sizeof(double) + 1) * chain_nodes + 9 * slack);
     solver = (*arena)->resource();
   }
+  if (kept) {
+    kept->emplace((sizeof(std::size_t) + sizeof(Vec2) + 2 * sizeof(double)) * chain_nodes +
+                  4 * slack);
+    kept_arrays = (*kept)->resource();
+  }
+  // The chords (a unit vector and a length each) in a block of their own, freed on return (in
+  // the solver's arena they raised the optimizer's peak by 24 bytes a node).
+  std::optional<SolverArena> chord_block;
+  if (arena) chord_block.emplace((sizeof(Vec2) + sizeof(double)) * segs + 128);
+  std::pmr::memory_resource* chord_arrays =
+      chord_block ? chord_block->resource() : std::pmr::get_default_resource();
+  std::pmr::vector<Vec2> unit(chord_arrays);  // unit chords
+  std::pmr::vector<double> len(chord_arrays);
+  detail::resize_huge(unit, segs);
+  detail::resize_huge(len, segs);
+  for (std::size_t s = 0; s < segs; ++s) {
+    const Vec2 c = P[s + 1 == n ? 0 : s + 1] - P[s];
+    const double l2 = c.x * c.x + c.y * c.y;  // sqrt is much cheaper than hypot; hypot only
+    len[s] = l2 > 1e-290 && l2 < 1e290 ? std::sqrt(l2) : norm(c);  // where squares misbehave
+    unit[s] = (1.0 / len[s]) * c;
+  }
   auto make = [&](std::size_t first, std::size_t count, bool cyclic) {
-    Chain ch(solver);
+    Chain ch(solver, kept_arrays);
     ch.closed = cyclic;
     detail::resize_huge(ch.node, count);
     for (std::size_t k = 0, i = first % n; k < count; ++k, i = i + 1 == n ? 0 : i + 1) {
@@ -2256,8 +2277,9 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   // The elastic domain is open at 180°: the boxes stop 1e-12 short of it.
   const double omega =
       m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPairLimit) : m.omega;
-  std::optional<SolverArena> arena;  // outlives the chains, released once they are optimized
-  std::vector<Chain> chains = build_chains(out, input, omega, m.basis, &arena);
+  // Both outlive the chains; `arena` is released once they are optimized.
+  std::optional<SolverArena> arena, kept;
+  std::vector<Chain> chains = build_chains(out, input, omega, m.basis, &arena, &kept);
   if (warm) start_from(*warm, n, chains);
   if (dirs) dirs->resize(out.closed ? n : n - 1);
   const bool elastic = is_elastic(m.basis);
