@@ -267,13 +267,13 @@ struct Chain {
   std::size_t segments() const { return closed ? node.size() : node.size() - 1; }
 };
 
-/// The chains' solver-only arrays of one fit in one block: it spans transparent huge pages
-/// (each array alone is under one at 10^5 nodes, and their 4 KiB pages were two thirds of a
-/// fit's page faults), and it is freed at once when the optimizer is done, before the result is
-/// allocated (so the peak memory does not grow).
-class SolverArena {
+/// Arrays of one fit carved from one block: it spans transparent huge pages (at 10^5 nodes each
+/// chain array alone is under one, and their 4 KiB pages were two thirds of a fit's page
+/// faults), and it is freed at once (the solver-only arrays when the optimizer is done, before
+/// the result is allocated, so the peak memory does not grow).
+class FitArena {
  public:
-  explicit SolverArena(std::size_t bytes)
+  explicit FitArena(std::size_t bytes)
       : block_(std::make_unique_for_overwrite<std::byte[]>(bytes)) {
     detail::advise_huge_pages(block_.get(), bytes);
     pool_.emplace(block_.get(), bytes, std::pmr::new_delete_resource());
@@ -1788,8 +1788,8 @@ std::string omega_limit(MinEnergyBasis basis) {
 /// The chains of a fit. With `arena`, their solver-only arrays (and the set-up's chords) come
 /// from one it emplaces, and with `kept` the arrays the output reads too.
 std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, double omega,
-                                MinEnergyBasis basis, std::optional<SolverArena>* arena = nullptr,
-                                std::optional<SolverArena>* kept = nullptr) {
+                                MinEnergyBasis basis, std::optional<FitArena>* arena = nullptr,
+                                std::optional<FitArena>* kept = nullptr) {
   const std::vector<Point>& P = out.points;
   const std::size_t n = P.size();
   const bool closed = out.closed;
@@ -1827,7 +1827,7 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
   }
   // The chords (a unit vector and a length each) in a block of their own, freed on return (in
   // the solver's arena they raised the optimizer's peak by 24 bytes a node).
-  std::optional<SolverArena> chord_block;
+  std::optional<FitArena> chord_block;
   if (arena) chord_block.emplace((sizeof(Vec2) + sizeof(double)) * segs + 128);
   std::pmr::memory_resource* chord_arrays =
       chord_block ? chord_block->resource() : std::pmr::get_default_resource();
@@ -2278,7 +2278,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   const double omega =
       m.basis == MinEnergyBasis::kElastic ? std::min(m.omega, kPairLimit) : m.omega;
   // Both outlive the chains; `arena` is released once they are optimized.
-  std::optional<SolverArena> arena, kept;
+  std::optional<FitArena> arena, kept;
   std::vector<Chain> chains = build_chains(out, input, omega, m.basis, &arena, &kept);
   if (warm) start_from(*warm, n, chains);
   if (dirs) dirs->resize(out.closed ? n : n - 1);
