@@ -499,13 +499,14 @@ FitResult py_fit(py::handle points, const std::string& method, bool closed,
                  const py::object& states, const py::object& in_tangents,
                  const py::object& out_tangents, const py::object& corners_deg,
                  const py::object& radii, const py::object& knots, const std::string& report,
-                 std::optional<double> accuracy, bool best_effort, const py::object& options,
-                 const py::kwargs& kwargs) {
+                 std::optional<double> accuracy, bool best_effort, bool diagnostics,
+                 const py::object& options, const py::kwargs& kwargs) {
   const FitInput in = make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds,
                                  knots, {states, in_tangents, out_tangents, corners_deg, radii});
   const json opts = options_json(options, kwargs);
   const fairspline::FitOptions fit_options{.level = fairspline::io::parse_report_level(report),
                                            .accuracy = accuracy,
+                                           .diagnostics = diagnostics,
                                            .best_effort = best_effort};
   py::gil_scoped_release release;
   return fairspline::fit(method, in, opts, fit_options);
@@ -515,7 +516,7 @@ py::list py_fit_many(py::iterable curves, const std::string& method, bool closed
                      std::optional<double> alpha, const py::object& start_tangent,
                      const py::object& end_tangent, std::optional<long long> threads,
                      const std::string& report, std::optional<double> accuracy, bool best_effort,
-                     const std::string& errors, const py::object& progress,
+                     bool diagnostics, const std::string& errors, const py::object& progress,
                      const py::object& options, const py::kwargs& kwargs) {
   if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
     invalid("progress must be None or a callable progress(done, total)");
@@ -526,6 +527,7 @@ py::list py_fit_many(py::iterable curves, const std::string& method, bool closed
   fairspline::BatchOptions batch;
   batch.fit = {.level = fairspline::io::parse_report_level(report),
                .accuracy = accuracy,
+               .diagnostics = diagnostics,
                .best_effort = best_effort};
   if (threads) {
     if (*threads < 0 || *threads > 4096) invalid("threads must be None or a count in [0, 4096]");
@@ -681,6 +683,8 @@ Parameters
          param("accuracy", "float or None", std::string(doc::fit_options_accuracy)) +
          param("best_effort", "bool",
                std::string(doc::fit_options_best_effort) + " Default False.") +
+         param("diagnostics", "bool",
+               std::string(doc::fit_options_diagnostics) + " Default True.") +
          param("options, **options", "dict",
                std::string("Method options (a dict, merged with the keyword arguments), validated "
                            "against the method's schema (see methods()): ") +
@@ -727,7 +731,8 @@ Parameters
 ----------
 curves : iterable of array_like, each of shape (n_i, 2)
     The point sets.
-method, closed, alpha, start_tangent, end_tangent, accuracy, best_effort, options, **options
+method, closed, alpha, start_tangent, end_tangent, accuracy, best_effort, diagnostics, options,
+**options
     As for fit().
 )" + param("threads", "int or None", std::string(doc::batch_threads) + ". None: every core.") +
          param("report", "{\"none\", \"basic\", \"full\"}", "As for fit(); \"none\" is fastest.") +
@@ -1522,15 +1527,15 @@ PYBIND11_MODULE(_core, m) {
         py::arg("out_tangents") = py::none(), py::arg("corners_deg") = py::none(),
         py::arg("radii") = py::none(), py::arg("knots") = py::none(), py::arg("report") = "basic",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
-        py::arg("options") = py::none(), keep(fit_doc()));
+        py::arg("diagnostics") = true, py::arg("options") = py::none(), keep(fit_doc()));
 
   m.def("fit_many", &py_fit_many, py::arg("curves"), py::arg("method") = default_method,
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("threads") = py::none(), py::arg("report") = "basic",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
-        py::arg("errors") = "raise", py::arg("progress") = py::none(),
-        py::arg("options") = py::none(), keep(fit_many_doc()));
+        py::arg("diagnostics") = true, py::arg("errors") = "raise",
+        py::arg("progress") = py::none(), py::arg("options") = py::none(), keep(fit_many_doc()));
 
   m.def(
       "read_curve_ensemble",

@@ -499,6 +499,29 @@ TEST_F(CliBatch, BestEffortAndAccuracyFromTheLineOrTheFlags) {
   EXPECT_EQ(run("batch " + quote(coarse.string()) + " --accuracy 1e-6").exit_code, 0);
 }
 
+TEST_F(CliBatch, NoDiagnosticsFromTheLineOrTheFlag) {
+  // A Jaklič–Žagar record's per-point λ are diagnostics: left out by the line's
+  // "diagnostics": false or by --no-diagnostics for every line; the summary stays.
+  json request = walk_request(9, 3);
+  request["method"] = "jaklic-zagar";
+  json asked = request;
+  asked["diagnostics"] = false;
+  const fs::path in = file("in.jsonl", request.dump() + "\n" + asked.dump() + "\n");
+  const CliRun lines = run("batch " + quote(in.string()));
+  ASSERT_EQ(lines.exit_code, 0) << lines.err;
+  const std::vector<json> a = parse_lines(lines.out);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].at("method_report").at("lambda").size(), 9u);
+  EXPECT_FALSE(a[1].at("method_report").contains("lambda"));
+  EXPECT_EQ(a[1].at("method_report").at("lambda_mode"), a[0].at("method_report").at("lambda_mode"));
+  EXPECT_EQ(a[1].at("segments"), a[0].at("segments"));
+  const CliRun flag = run("batch " + quote(in.string()) + " --no-diagnostics");
+  ASSERT_EQ(flag.exit_code, 0) << flag.err;
+  for (const json& r : parse_lines(flag.out)) {
+    EXPECT_EQ(r.at("method_report"), a[1].at("method_report"));
+  }
+}
+
 /// The text of member `key` of a compact one-line record ("\"key\":" up to its end).
 std::string member_text(const std::string& record, const std::string& key) {
   const json parsed = json::parse(record);

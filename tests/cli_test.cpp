@@ -134,6 +134,30 @@ TEST_F(Cli, KozakKrajncExampleAndPointCountError) {
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
 
+TEST_F(Cli, NoDiagnosticsKeepsTheMethodReportsSummary) {
+  // --no-diagnostics (or the request's "diagnostics": false) drops the per-piece entries of
+  // method_report and keeps its summary and the report; "diagnostics" must be a boolean.
+  const std::string example = std::string(FAIRSPLINE_SOURCE_DIR) + "/examples/kozak-krajnc.csv";
+  const json full = json::parse(run("fit " + quote(example) + " -m kozak-krajnc").out);
+  ASSERT_EQ(full["method_report"]["segments"].size(), 3u);
+  const CliRun flag = run("fit " + quote(example) + " -m kozak-krajnc --no-diagnostics");
+  ASSERT_EQ(flag.exit_code, 0) << flag.err;
+  const json quiet = json::parse(flag.out);
+  EXPECT_FALSE(quiet["method_report"].contains("segments"));
+  EXPECT_FALSE(quiet["method_report"].contains("breakpoints"));
+  EXPECT_EQ(quiet["method_report"]["gamma"], full["method_report"]["gamma"]);
+  EXPECT_EQ(quiet["report"], full["report"]);
+  EXPECT_EQ(quiet["segments"], full["segments"]);
+  json request = {{"points", full["points"]}, {"method", "kozak-krajnc"}, {"diagnostics", false}};
+  const CliRun asked = run("fit -", request.dump());
+  ASSERT_EQ(asked.exit_code, 0) << asked.err;
+  EXPECT_EQ(json::parse(asked.out)["method_report"], quiet["method_report"]);
+  request["diagnostics"] = "no";
+  const CliRun bad = run("fit -", request.dump());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("diagnostics: expected true or false"), std::string::npos) << bad.err;
+}
+
 TEST_F(Cli, MinEnergyKindsFromJson) {
   // A closed square with a corner at point 0: one open piece from the corner around to it.
   const CliRun a = run("fit -",

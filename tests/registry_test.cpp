@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "capability_inputs.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
 #include "test_util.hpp"
@@ -119,6 +120,31 @@ TEST(RegistryCapabilities, EveryExampleRequestFits) {
       }
     }
   }
+}
+
+TEST(RegistryCapabilities, WithoutDiagnosticsTheMethodReportIsOfConstantSize) {
+  // FitOptions::diagnostics = false: at any report level the method_report is the one of level
+  // none, whose size does not grow with the points, while the Report is still computed.
+  auto dump = [](const MethodInfo& m, std::size_t n, FitOptions f) {
+    FitInput in;
+    for (std::size_t i = 0; i < n; ++i) in.points.push_back({0.5 * i, std::sin(0.9 * i)});
+    testing::clamp_if_needed(m, in);
+    const FitResult r = fit(m.name, in, testing::options_for_any_points(m), f);
+    EXPECT_EQ(r.report.has_value(), f.level != ReportLevel::kNone);
+    return r.method_report.dump();
+  };
+  int with_entries = 0;
+  for (const MethodInfo& m : methods()) {
+    SCOPED_TRACE(m.name);
+    for (const ReportLevel level : {ReportLevel::kBasic, ReportLevel::kFull}) {
+      const std::string quiet = dump(m, 301, {.level = level, .diagnostics = false});
+      EXPECT_EQ(quiet, dump(m, 301, {.level = ReportLevel::kNone}));
+      const std::size_t small = dump(m, 31, {.level = level, .diagnostics = false}).size();
+      EXPECT_LT(quiet.size(), small + 64);  // (the numbers' digits differ)
+      with_entries += dump(m, 301, {.level = level}).size() > 4 * quiet.size();
+    }
+  }
+  EXPECT_GE(with_entries, 10);  // the methods with per-point entries lose them
 }
 
 TEST(RegistryCapabilities, SchemaShowsThem) {

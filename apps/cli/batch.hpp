@@ -19,6 +19,7 @@ struct BatchArgs {
   bool quiet = false;                ///< no progress line even on a terminal
   std::optional<double> accuracy;    ///< --accuracy, else each line's, else the default
   bool best_effort = false;          ///< --best-effort, or each line's
+  bool no_diagnostics = false;       ///< --no-diagnostics, or each line's "diagnostics": false
   /// --fields: comma-separated members a fit record keeps ("segments", "report.length"); none:
   /// the whole record.
   std::optional<std::string> fields;

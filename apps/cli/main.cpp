@@ -177,6 +177,7 @@ struct FitArgs {
   int indent = -1;
   std::optional<double> accuracy;   ///< else the request's, else the default
   bool best_effort = false;         ///< or the request's
+  bool no_diagnostics = false;      ///< or the request's "diagnostics": false
   std::optional<double> tolerance;  ///< GeoJSON's flattening tolerance, else its default
   CLI::Option* alpha_opt = nullptr;
 };
@@ -285,6 +286,7 @@ int run_fit(const FitArgs& a) {
   fairspline::FitOptions fit_options = parsed.fit_options(level);
   if (a.accuracy) fit_options.accuracy = *a.accuracy;
   fit_options.best_effort = fit_options.best_effort || a.best_effort;
+  fit_options.diagnostics = fit_options.diagnostics && !a.no_diagnostics;
   const fairspline::FitResult result = fairspline::fit(method, in, options, fit_options);
 
   // 4. Output.
@@ -457,8 +459,9 @@ int run_serve(const fairspline::web::ServerOptions& options) {
   return server.run() ? kExitOk : kExitFitError;
 }
 
-/// --accuracy and --best-effort, shared by fit and batch.
-void add_fit_options(CLI::App& cmd, std::optional<double>& accuracy, bool& best_effort) {
+/// --accuracy, --best-effort and --no-diagnostics, shared by fit and batch.
+void add_fit_options(CLI::App& cmd, std::optional<double>& accuracy, bool& best_effort,
+                     bool& no_diagnostics) {
   cmd.add_option("--accuracy", accuracy,
                  "Relative accuracy of every approximation, in (0, 1): the report's quadratures "
                  "and searches (default 1e-9), the Beziers of elastic splines (relative to the "
@@ -466,6 +469,10 @@ void add_fit_options(CLI::App& cmd, std::optional<double>& accuracy, bool& best_
   cmd.add_flag("--best-effort", best_effort,
                "When an iterative method stops short of its tolerance, write its curve with the "
                "solver's status instead of failing (also a request's \"best_effort\": true)");
+  cmd.add_flag("--no-diagnostics", no_diagnostics,
+               "Leave the per-point and per-piece entries out of method_report, keeping its "
+               "summary: at a million points they cost several times the fit (also a request's "
+               "\"diagnostics\": false)");
 }
 
 int run(int argc, char** argv) {
@@ -521,7 +528,7 @@ int run(int argc, char** argv) {
                   "Report level (default: basic; full adds per-piece reports, curvature variation "
                   "and self-intersections)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
-  add_fit_options(*fit, fa.accuracy, fa.best_effort);
+  add_fit_options(*fit, fa.accuracy, fa.best_effort, fa.no_diagnostics);
   fit->add_flag("--summary", fa.summary,
                 "Print a summary table (to stdout with -o, else to stderr)");
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")
@@ -547,7 +554,7 @@ int run(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   batch->add_option("--report", bta.report, "Report level (default: basic)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
-  add_fit_options(*batch, bta.accuracy, bta.best_effort);
+  add_fit_options(*batch, bta.accuracy, bta.best_effort, bta.no_diagnostics);
   batch
       ->add_option("--fields", bta.fields,
                    "Comma-separated members a fit record keeps, e.g. segments,report.length: "

@@ -172,7 +172,8 @@ struct FitOptions {
   /// diagonal of the points' bounding box). Not given: each approximation's default,
   /// kDefaultAccuracy for the report, kDefaultCurveAccuracy for the curve.
   std::optional<double> accuracy{};
-  /// Per-node and per-segment entries in method_report (false: only its O(1) summary).
+  /// Per-node and per-segment entries in method_report (false: only what is O(1) in size, as
+  /// with level kNone). At 10^6 points those entries cost several times the fit itself.
   bool diagnostics = true;
   /// A solver that stops short of its tolerance (iteration cap, no admissible step) returns its
   /// curve with that status (FitResult::solver) instead of failing with code not_converged.
@@ -183,6 +184,8 @@ struct FitOptions {
   /// a few cubics per span.
   static constexpr double kDefaultCurveAccuracy = 1e-6;
   double report_accuracy() const { return accuracy.value_or(kDefaultAccuracy); }
+  /// The level a method builds its method_report at: `level`, or kNone without diagnostics.
+  ReportLevel method_report_level() const { return diagnostics ? level : ReportLevel::kNone; }
   double curve_accuracy() const { return accuracy.value_or(kDefaultCurveAccuracy); }
 };
 

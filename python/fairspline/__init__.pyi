@@ -144,6 +144,7 @@ def fit(
     report: ReportLevel = "basic",
     accuracy: Optional[float] = None,
     best_effort: bool = False,
+    diagnostics: bool = True,
     options: Optional[dict[str, Any]] = None,
     **kwargs: Any,
 ) -> Curve: ...
@@ -159,6 +160,7 @@ def fit_many(
     report: ReportLevel = "basic",
     accuracy: Optional[float] = None,
     best_effort: bool = False,
+    diagnostics: bool = True,
     errors: Literal["raise", "return"] = "raise",
     progress: Optional[Callable[[int, int], Any]] = None,
     options: Optional[dict[str, Any]] = None,

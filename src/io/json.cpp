@@ -44,10 +44,11 @@ E parse_choice(const detail::ChoiceTable<E, N>& table, std::string_view text, co
 
 namespace {
 
-constexpr const char* kInputFields[] = {
-    "points",       "closed",        "tangents",    "kinds",   "states",   "in_tangents",
-    "out_tangents", "corners_deg",   "radii",       "method",  "options",  "alpha",
-    "knots",        "start_tangent", "end_tangent", "lambdas", "accuracy", "best_effort"};
+constexpr const char* kInputFields[] = {"points",   "closed",        "tangents",     "kinds",
+                                        "states",   "in_tangents",   "out_tangents", "corners_deg",
+                                        "radii",    "method",        "options",      "alpha",
+                                        "knots",    "start_tangent", "end_tangent",  "lambdas",
+                                        "accuracy", "best_effort",   "diagnostics"};
 
 std::string field_list() {
   std::string s;
@@ -672,6 +673,11 @@ ParsedInput input_from_fields(const json& document, std::vector<Vec2>* points) {
     out.best_effort = it->get<bool>();
   }
 
+  if (auto it = document.find("diagnostics"); it != document.end()) {
+    if (!it->is_boolean()) parse_fail("diagnostics: expected true or false, got " + preview(*it));
+    out.diagnostics = it->get<bool>();
+  }
+
   for (const char* field : {"start_tangent", "end_tangent"}) {
     auto it = document.find(field);
     if (it == document.end() || it->is_null()) continue;
@@ -940,7 +946,7 @@ FitResult fit_result_from_json(const json& document) {
     } catch (const Error& e) {
       throw Error(e.code(), std::string("request.") + e.what(), e.index());
     }
-    if (p.method || !p.options.empty() || p.best_effort) {
+    if (p.method || !p.options.empty() || p.best_effort || p.diagnostics) {
       bad_field("request", "the fit input alone (method and options are the result's)", *request,
                 std::nullopt);
     }

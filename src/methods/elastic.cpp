@@ -91,7 +91,7 @@ MethodInfo make(bool restricted) {
             opt.search = detail::parse_min_energy_search(o);
             opt.accuracy = f.curve_accuracy();
             opt.best_effort = f.best_effort;
-            fit_elastic(in, opt, f.level, out);
+            fit_elastic(in, opt, f.method_report_level(), out);
           },
       .capabilities = elastic_capabilities(),
       .report_units = detail::min_energy_report_units(),

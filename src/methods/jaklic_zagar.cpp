@@ -928,7 +928,7 @@ std::vector<MethodInfo> jaklic_zagar_methods() {
             }
             if (o.contains("lambdas")) opt.lambdas = o.at("lambdas").get<std::vector<double>>();
             opt.reversal = kReversal.parse(o.at("reversal").get<std::string>());
-            fit_jaklic_zagar(in, opt, f.level, out);
+            fit_jaklic_zagar(in, opt, f.method_report_level(), out);
           },
       .capabilities = jaklic_zagar_capabilities(),
       .checks_own_output = true,

@@ -724,7 +724,7 @@ struct KozakKrajncReport {
     std::string reason, start;
   };
   std::size_t pieces = 0;
-  bool detailed = false;  ///< level != kNone: everything below is reported
+  bool detailed = false;  ///< level != kNone: segments and breakpoints are reported
   std::vector<Piece> segments;
   std::vector<Breakpoint> breakpoints;
   bool sweeps = false;
@@ -757,10 +757,8 @@ nlohmann::json solution_json(const KozakKrajncReport::Solution& s) {
           {"energy", s.energy ? nlohmann::json(*s.energy) : nlohmann::json(nullptr)}};
 }
 
-nlohmann::json report_json(const KozakKrajncReport& r) {
-  nlohmann::json j = nlohmann::json::object();
-  j["pieces"] = r.pieces;
-  if (!r.detailed) return j;
+/// The per-piece and per-breakpoint entries (diagnostics), O(n) in size.
+void detail_json(const KozakKrajncReport& r, nlohmann::json& j) {
   nlohmann::json segs = nlohmann::json::array();
   for (const KozakKrajncReport::Piece& p : r.segments) {
     nlohmann::json sols = nlohmann::json::array();
@@ -787,6 +785,12 @@ nlohmann::json report_json(const KozakKrajncReport& r) {
     bps.push_back(bp);
   }
   j["breakpoints"] = bps;
+}
+
+nlohmann::json report_json(const KozakKrajncReport& r) {
+  nlohmann::json j = nlohmann::json::object();
+  j["pieces"] = r.pieces;
+  if (r.detailed) detail_json(r, j);
   j["sweeps"] = r.sweeps;
   j["tangents"] = r.tangents;
   j["gamma"] = std::isnan(r.gamma) ? nlohmann::json("auto") : nlohmann::json(r.gamma);
@@ -1792,8 +1796,7 @@ KozakKrajncReport describe_fit(const Prepared& p, const Directions& d,
   KozakKrajncReport r;
   r.pieces = m;
   r.detailed = level != ReportLevel::kNone;
-  if (!r.detailed) return r;
-  for (std::size_t l = 1; l <= m; ++l) {
+  for (std::size_t l = 1; r.detailed && l <= m; ++l) {
     const PieceFit& f = pieces[l];
     KozakKrajncReport::Piece seg;
     for (const KozakKrajncSolution& s : f.all)
@@ -1809,7 +1812,7 @@ KozakKrajncReport describe_fit(const Prepared& p, const Directions& d,
     seg.theorem = admissible(g, l, f.d0, f.d3);
     r.segments.push_back(std::move(seg));
   }
-  for (std::size_t l = 0; l <= m; ++l) {
+  for (std::size_t l = 0; r.detailed && l <= m; ++l) {
     KozakKrajncReport::Breakpoint bp{.point = 3 * l,
                                      .xi = d.xi[l],
                                      .prescribed = p.fixed[l].has_value(),
@@ -1850,8 +1853,8 @@ void fit_kozak_krajnc(const FitInput& input, const KozakKrajncOptions& options, 
   if (options.g2) g2 = g2_stage(p, options, d, pieces);
   const int remainder_pieces = assemble(p, pieces, out);
   out.method_report = report_json(describe_fit(p, d, pieces, remainder_pieces, g2, options, level));
-  // Kept as it was: with level none the solver status is not set.
-  if (g2 && level != ReportLevel::kNone) {
+  // The solver's outcome is O(1) in size: reported at every level, like the other solvers'.
+  if (g2) {
     const G2Report& rep = g2->rep;
     out.solver = SolverReport{.status = rep.converged      ? SolverStatus::kConverged
                                         : rep.at_precision ? SolverStatus::kConditioningLimit
@@ -1957,7 +1960,7 @@ std::vector<MethodInfo> kozak_krajnc_methods() {
             opt.g2 = o.at("g2").get<bool>();
             opt.g2_max_iterations = o.at("g2_max_iterations").get<int>();
             opt.best_effort = f.best_effort;
-            fit_kozak_krajnc(in, opt, f.level, out);
+            fit_kozak_krajnc(in, opt, f.method_report_level(), out);
           },
       .capabilities = kozak_krajnc_capabilities(),
       .report_units = {{"segments/*/alpha0", 1, 0},

@@ -434,7 +434,7 @@ std::vector<MethodInfo> li_methods() {
       .paper = paper + ", system (2.13)/(2.20)",
       .fit =
           [](const FitInput& in, const nlohmann::json&, const FitOptions& f, FitResult& out) {
-            fit_li(in, {1.0, 0.0}, f.level, out);
+            fit_li(in, {1.0, 0.0}, f.method_report_level(), out);
           },
       .capabilities = li_capabilities(),
       .checks_own_output = true,
@@ -459,7 +459,7 @@ std::vector<MethodInfo> li_methods() {
                           "option 'weights' of li-combined must have two entries [w1, w2], got " +
                               w.dump());
             }
-            fit_li(in, {w[0].get<double>(), w[1].get<double>()}, f.level, out);
+            fit_li(in, {w[0].get<double>(), w[1].get<double>()}, f.method_report_level(), out);
           },
       .capabilities = li_capabilities(),
       .checks_own_output = true,
@@ -473,7 +473,7 @@ std::vector<MethodInfo> li_methods() {
       .paper = paper + ", system (2.16)",
       .fit =
           [](const FitInput& in, const nlohmann::json&, const FitOptions& f, FitResult& out) {
-            fit_li(in, {0.0, 1.0}, f.level, out);
+            fit_li(in, {0.0, 1.0}, f.method_report_level(), out);
           },
       .capabilities = li_capabilities(),
       .checks_own_output = true,

@@ -2420,13 +2420,13 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
                        {"status", !converged     ? "iteration_limit"
                                   : at_precision ? "conditioning_limit"
                                                  : "converged"},
-                       {"pieces", rep.pieces}};
-  if (level != ReportLevel::kNone) {
+                       {"pieces", rep.pieces},
+                       {"omega_deg", m.omega * 180.0 / kPi},
+                       {"search", detail::min_energy_search_name(options.search)}};
+  if (elastic) out.method_report["bezier_accuracy"] = options.accuracy;
+  if (level != ReportLevel::kNone) {  // the per-node and per-span entries
     out.method_report["active"] = rep.active;
-    out.method_report["omega_deg"] = m.omega * 180.0 / kPi;
-    out.method_report["search"] = detail::min_energy_search_name(options.search);
     if (elastic) {
-      out.method_report["bezier_accuracy"] = options.accuracy;
       out.method_report["spans"] = spans_json(rep.spans);
       std::sort(rep.active_spans.begin(), rep.active_spans.end());
       out.method_report["active_spans"] = rep.active_spans;
@@ -2562,7 +2562,7 @@ std::vector<MethodInfo> min_energy_methods() {
               opt.search = parse_min_energy_search(o);
               opt.best_effort = f.best_effort;
               opt.accuracy = f.curve_accuracy();
-              fit_min_energy(in, opt, f.level, out);
+              fit_min_energy(in, opt, f.method_report_level(), out);
             },
         .capabilities = min_energy_capabilities(),
         .report_units = min_energy_report_units(),

@@ -1011,7 +1011,7 @@ std::vector<MethodInfo> yong_cheng_methods() {
             opt.composite = o.at("composite").get<bool>();
             opt.ratio = kRatio.parse(o.at("ratio").get<std::string>());
             opt.tangents_from = o.at(kTangentsFromOption).get<std::string>();
-            fit_yong_cheng(in, opt, f.level, out);
+            fit_yong_cheng(in, opt, f.method_report_level(), out);
           },
       .capabilities = yong_cheng_capabilities(),
       // Derivative lengths dP/dt per unit of the given vector's length.

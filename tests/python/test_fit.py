@@ -324,6 +324,19 @@ def test_best_effort_and_accuracy_reach_the_fit():
     assert rel < 1e-3
 
 
+def test_diagnostics_false_keeps_the_method_reports_summary():
+    pts = np.loadtxt(KK_EXAMPLE, delimiter=",", skiprows=1)
+    full = fairspline.fit(pts, "kozak-krajnc")
+    quiet = fairspline.fit(pts, "kozak-krajnc", diagnostics=False)
+    assert len(full.method_report["segments"]) == 3
+    assert "segments" not in quiet.method_report
+    assert quiet.method_report == fairspline.fit(pts, "kozak-krajnc", report="none").method_report
+    assert quiet.report == full.report
+    assert np.array_equal(quiet.segments, full.segments)
+    [many] = fairspline.fit_many([pts], "kozak-krajnc", diagnostics=False)
+    assert many.to_json() == quiet.to_json()
+
+
 def test_node_model_keywords_same_as_json_request(cli, tmp_path):
     # Issue 19: states, in_tangents, out_tangents and corners_deg reach the library as the JSON
     # request's fields do (byte-identical output), and kinds-only methods refuse what kinds
