@@ -2,6 +2,11 @@
 BUILD_DIR ?= build
 BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+# Ninja for every CMake tree configured from here (this one, the fuzz and sanitizer builds, and
+# the trees make test's consumer and pip tests configure): it compiles a target's sources while
+# the library they link is still being built, where Make waits. A clean build took 264 s
+# instead of 301 s on 2 cores. An existing tree keeps the generator it was made with.
+export CMAKE_GENERATOR ?= $(if $(shell command -v ninja 2>/dev/null),Ninja,Unix Makefiles)
 CLI := $(BUILD_DIR)/apps/cli/fairspline
 EXAMPLE ?= examples/li-example1.csv
 
