@@ -485,8 +485,7 @@ struct Stats {
 };
 
 /// Iterations of the result's solver: FitResult::solver, else "iterations" in the method
-/// report; nullopt when the result says neither (kozak-krajnc fills FitResult::solver only
-/// with a report: the caller fits again, untimed, with a basic one).
+/// report; nullopt when the result says neither (a closed-form fit).
 std::optional<int> iterations_of(const FitResult& r) {
   if (r.solver) return r.solver->iterations;
   if (r.method_report.contains("iterations") && r.method_report.at("iterations").is_number()) {
@@ -650,15 +649,7 @@ void run_case(Shared& sh, unsigned t, std::uint64_t k, std::vector<Stats>& stats
     std::string kind;
     if (outcome == Outcome::kOk) {
       ++st.ok;
-      std::optional<int> iterations = iterations_of(r);
-      if (!iterations) {
-        try {
-          fit_into(v.method->name, in, options, FitOptions{.level = ReportLevel::kBasic}, r);
-          iterations = iterations_of(r);
-        } catch (const std::exception&) {
-        }
-      }
-      st.iterations.push_back(iterations.value_or(0));
+      st.iterations.push_back(iterations_of(r).value_or(0));
       st.ms.push_back(static_cast<float>(ms));
       if (st.iterations.back() > st.max_iterations) {
         st.max_iterations = st.iterations.back(), st.max_iterations_case = k;
