@@ -1,6 +1,8 @@
 #include "detail/huge_pages.hpp"
 
+#include <array>
 #include <cstdint>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -20,6 +22,47 @@ void advise_huge_pages(void* p, std::size_t bytes) noexcept {
   static_cast<void>(p);
   static_cast<void>(bytes);
 #endif
+}
+
+namespace {
+
+constexpr std::size_t kKeptMinBytes = std::size_t{4} << 20;
+constexpr std::size_t kKeptMaxBytes = std::size_t{256} << 20;
+
+thread_local std::array<Block, 3> t_kept;
+
+}  // namespace
+
+Block take_block(std::size_t bytes) {
+  Block* best = nullptr;
+  for (Block& b : t_kept) {
+    if (b.data && b.size >= bytes && (!best || b.size < best->size)) best = &b;
+  }
+  if (best) return std::exchange(*best, Block{});
+  Block b{std::make_unique_for_overwrite<std::byte[]>(bytes), bytes};
+  advise_huge_pages(b.data.get(), bytes);
+  return b;
+}
+
+void give_block(Block b) noexcept {
+  if (!b.data || b.size < kKeptMinBytes || b.size > kKeptMaxBytes) return;
+  // Into an empty slot, else in place of the smallest kept block if b is larger.
+  Block* slot = &t_kept[0];
+  for (Block& k : t_kept) {
+    if (!k.data || (slot->data && k.size < slot->size)) slot = &k;
+  }
+  if (slot->data && slot->size >= b.size) return;
+  *slot = std::move(b);
+  std::size_t total = 0;
+  for (const Block& k : t_kept) total += k.size;
+  while (total > kKeptMaxBytes) {  // the smallest go first
+    Block* smallest = nullptr;
+    for (Block& k : t_kept) {
+      if (k.data && (!smallest || k.size < smallest->size)) smallest = &k;
+    }
+    total -= smallest->size;
+    *smallest = Block{};
+  }
 }
 
 }  // namespace fairspline::detail

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace fairspline::detail {
@@ -13,6 +14,21 @@ namespace fairspline::detail {
 /// nothing happens for blocks under 4 MiB, for pages already touched, where THP is off, or
 /// off Linux. Memory is not rounded up: the partial pages at either end stay small.
 void advise_huge_pages(void* p, std::size_t bytes) noexcept;
+
+/// Raw memory of one fit (min-energy's arenas).
+struct Block {
+  std::unique_ptr<std::byte[]> data;
+  std::size_t size = 0;
+};
+
+/// A block of at least `bytes`, advised for huge pages: the smallest large enough of those this
+/// thread gave back (its pages are mapped already), else a new one (uninitialized either way).
+Block take_block(std::size_t bytes);
+/// Keeps `b` for this thread's next take_block, or frees it. Only blocks of 4 MiB and more are
+/// kept (malloc reuses smaller ones itself; larger ones it maps afresh, and the kernel zeroes
+/// their pages again: ~130 MB at 10^6 points, 7% of a fit), at most three and 256 MiB in all:
+/// the largest stay. They are freed when the thread ends.
+void give_block(Block b) noexcept;
 
 /// v.resize(n), the new storage advised before anything touches it (reserve does not).
 template <typename T, typename A>

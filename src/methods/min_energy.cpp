@@ -273,20 +273,23 @@ struct Chain {
 /// the result is allocated, so the peak memory does not grow).
 class FitArena {
  public:
-  explicit FitArena(std::size_t bytes)
-      : block_(std::make_unique_for_overwrite<std::byte[]>(bytes)) {
-    detail::advise_huge_pages(block_.get(), bytes);
-    pool_.emplace(block_.get(), bytes, std::pmr::new_delete_resource());
+  explicit FitArena(std::size_t bytes) : block_(detail::take_block(bytes)) {
+    pool_.emplace(block_.data.get(), block_.size, std::pmr::new_delete_resource());
   }
+  FitArena(const FitArena&) = delete;
+  FitArena& operator=(const FitArena&) = delete;
+  ~FitArena() { release(); }
   std::pmr::memory_resource* resource() { return &*pool_; }
-  /// Frees the memory; every array from it must be empty by then (release_solver_arrays).
+  /// Gives the memory back (detail::give_block); every array from it must be empty by then
+  /// (release_solver_arrays).
   void release() {
     pool_.reset();
-    block_.reset();
+    detail::give_block(std::move(block_));
+    block_ = {};
   }
 
  private:
-  std::unique_ptr<std::byte[]> block_;
+  detail::Block block_;
   std::optional<std::pmr::monotonic_buffer_resource> pool_;  // over block_, then the heap
 };
 
