@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <thread>
+#include <vector>
 
 namespace fairspline::detail {
 namespace {
@@ -43,16 +44,28 @@ TEST(BlockCache, SmallAndHugeBlocksAreNotKept) {
   }).join();
 }
 
-TEST(BlockCache, AtMostThreeAndTheLargestStay) {
+TEST(BlockCache, AKeptBlockServesUpToTwiceTheRequest) {
   std::thread([] {
-    Block b[4] = {take_block(4 * kMiB), take_block(5 * kMiB), take_block(6 * kMiB),
-                  take_block(7 * kMiB)};
-    for (Block& x : b) give_block(std::move(x));
-    // 4 MiB was dropped for 7 MiB: a 4 MiB request now gets the 5 MiB block.
-    EXPECT_EQ(take_block(4 * kMiB).size, 5 * kMiB);
-    EXPECT_EQ(take_block(4 * kMiB).size, 6 * kMiB);
-    EXPECT_EQ(take_block(4 * kMiB).size, 7 * kMiB);
-    EXPECT_EQ(take_block(4 * kMiB).size, 4 * kMiB);  // a new one
+    give_block(take_block(16 * kMiB));
+    EXPECT_EQ(take_block(7 * kMiB).size, 7 * kMiB);  // 16 MiB is more than twice 7: a new one
+    EXPECT_EQ(take_block(8 * kMiB).size, 16 * kMiB);
+  }).join();
+}
+
+TEST(BlockCache, AtMostSixteenAndTheLargestStay) {
+  std::thread([] {
+    std::vector<Block> blocks;
+    for (std::size_t k = 0; k < 17; ++k) blocks.push_back(take_block((4 + k) * kMiB));
+    for (Block& b : blocks) give_block(std::move(b));
+    // 4 MiB was dropped for 20 MiB: a 4 MiB request now gets the 5 MiB block, and so on.
+    for (std::size_t k = 1; k < 5; ++k) EXPECT_EQ(take_block(4 * kMiB).size, (4 + k) * kMiB);
+    EXPECT_EQ(take_block(19 * kMiB).size, 19 * kMiB);
+    EXPECT_EQ(take_block(19 * kMiB).size, 20 * kMiB);
+    EXPECT_EQ(take_block(20 * kMiB).size, 20 * kMiB);  // a new one
+    // Over 256 MiB in all, the smallest go first.
+    give_block(take_block(250 * kMiB));
+    EXPECT_EQ(take_block(9 * kMiB).size, 9 * kMiB);  // 9 … 18 MiB were given up for it
+    EXPECT_EQ(take_block(200 * kMiB).size, 250 * kMiB);
   }).join();
 }
 

@@ -26,17 +26,20 @@ void advise_huge_pages(void* p, std::size_t bytes) noexcept {
 
 namespace {
 
-constexpr std::size_t kKeptMinBytes = std::size_t{4} << 20;
 constexpr std::size_t kKeptMaxBytes = std::size_t{256} << 20;
 
-thread_local std::array<Block, 3> t_kept;
+thread_local std::array<Block, 16> t_kept;
 
 }  // namespace
 
 Block take_block(std::size_t bytes) {
   Block* best = nullptr;
+  // (A small request is malloc's; a kept block is lent only up to twice the size asked for.)
   for (Block& b : t_kept) {
-    if (b.data && b.size >= bytes && (!best || b.size < best->size)) best = &b;
+    if (bytes >= kKeptBlockMinBytes && b.data && b.size >= bytes && b.size / 2 <= bytes &&
+        (!best || b.size < best->size)) {
+      best = &b;
+    }
   }
   if (best) return std::exchange(*best, Block{});
   Block b{std::make_unique_for_overwrite<std::byte[]>(bytes), bytes};
@@ -45,7 +48,7 @@ Block take_block(std::size_t bytes) {
 }
 
 void give_block(Block b) noexcept {
-  if (!b.data || b.size < kKeptMinBytes || b.size > kKeptMaxBytes) return;
+  if (!b.data || b.size < kKeptBlockMinBytes || b.size > kKeptMaxBytes) return;
   // Into an empty slot, else in place of the smallest kept block if b is larger.
   Block* slot = &t_kept[0];
   for (Block& k : t_kept) {

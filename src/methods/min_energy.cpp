@@ -193,23 +193,28 @@ namespace {
 
 /// A double array whose resize keeps no contents and never zero-fills: every user writes each
 /// entry before reading it (the optimizer's work arrays; a memset of them was 5% of a fit).
-/// It can also lend storage of its owner's (use), up to the first larger resize.
+/// It can also lend storage of its owner's (use), up to the first larger resize. Its memory is
+/// a detail::Block, kept by the thread for the next fit when large (like the arenas').
 class Scratch {
  public:
   Scratch() = default;
   explicit Scratch(std::size_t n) { resize(n); }
+  Scratch(Scratch&&) noexcept = default;
+  Scratch& operator=(Scratch&&) noexcept = default;
+  ~Scratch() { detail::give_block(std::move(own_)); }
   void resize(std::size_t n) {
     if (n > cap_) {
-      own_ = std::make_unique_for_overwrite<double[]>(n);
-      detail::advise_huge_pages(own_.get(), n * sizeof(double));
-      p_ = own_.get();
-      cap_ = n;
+      detail::give_block(std::move(own_));
+      own_ = detail::take_block(n * sizeof(double));
+      p_ = reinterpret_cast<double*>(own_.data.get());
+      cap_ = own_.size / sizeof(double);
     }
     n_ = n;
   }
   /// Works in the n doubles at p (which must outlive this use), size 0.
   void use(double* p, std::size_t n) {
-    own_.reset();
+    detail::give_block(std::move(own_));
+    own_ = {};
     p_ = p;
     cap_ = n;
     n_ = 0;
@@ -225,7 +230,7 @@ class Scratch {
   operator std::span<const double>() const { return {p_, n_}; }
 
  private:
-  std::unique_ptr<double[]> own_;
+  detail::Block own_;
   double* p_ = nullptr;  // own_ or lent storage
   std::size_t n_ = 0, cap_ = 0;
 };
@@ -255,7 +260,7 @@ struct Chain {
   // Per node: α of the next segment = x + a, β of the previous = x + b; x ∈ [lo, hi].
   std::pmr::vector<Vec2> ref;  // per node: unit reference direction (x = 0)
   std::pmr::vector<double> ca, sa, cb, sb, lo, hi;
-  std::vector<double> x;  // swapped with the optimizer's trial points
+  detail::BlockVector<double> x;  // swapped with the optimizer's trial points
   std::pmr::vector<char> fixed;
   std::pmr::vector<double> w;     // per segment: 1 / L
   std::pmr::vector<double> a, b;  // per node: the offsets as angles, atan2(sa, ca), atan2(sb, cb)
@@ -619,7 +624,7 @@ double projected_gradient(const Chain& ch, std::span<const double> g, double gsc
 
 /// xn = P(x + step·dir); returns the first-order change g·(xn − x).
 double project_step(const Chain& ch, std::span<const double> dir, double step,
-                    std::span<const double> g, std::vector<double>& xn) {
+                    std::span<const double> g, std::span<double> xn) {
   double decrease = 0.0;
   for (std::size_t i = 0; i < g.size(); ++i) {
     xn[i] = std::clamp(ch.x[i] + step * dir[i], ch.lo[i], ch.hi[i]);
@@ -808,9 +813,9 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
     work.use(p, 3 * k);  // ldl_solve's 3k (closed chains), the open solve's 2k
   }
   dir.resize(k);
-  std::vector<double> xn;  // swapped with ch.x
+  detail::BlockVector<double> xn;  // swapped with ch.x
   detail::resize_huge(xn, k);
-  std::vector<char> active;  // per iteration: held at its bound (or fixed)
+  detail::BlockVector<char> active;  // per iteration: held at its bound (or fixed)
   detail::resize_huge(active, k);
   ChainResult res;
   const double tol = opt.tolerance;  // on the scaled projected gradient (dimensionless)
@@ -829,7 +834,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // predicted (−g·d/2; the projected Hessian is too stiff where E_1 is concave): the step is
   // doubled while that keeps lowering the energy. Without it such a stretch took one Newton
   // iteration per ~10% of progress (a 10⁴-point walk: 50 → 21 iterations; 10⁵: 121 → 43).
-  std::vector<double> xe;  // sized on first use (elastic bases only)
+  detail::BlockVector<double> xe;  // sized on first use (elastic bases only)
   Evaluation further;
   // Also after a full step in nearly the direction of the last one ("creeping": the PSD
   // projection keeps each step short where E_1 is concave, and the iterate walked out of such a
@@ -1248,7 +1253,8 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   const std::size_t k = ch.node.size(), segs = ch.segments();
   Evaluation ev, trial;
   Scratch work;
-  std::vector<double> xn(k), dir(k), dd, ee, rhs, stop;
+  detail::BlockVector<double> xn(k);
+  std::vector<double> dir(k), dd, ee, rhs, stop;
   std::vector<std::size_t> stop_node;
   std::vector<signed char> box(k, 0), link(segs, 0);
   const double tol = opt.tolerance;
