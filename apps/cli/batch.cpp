@@ -633,10 +633,8 @@ void append_selected(std::string& out, std::string_view record, const FieldSelec
 struct Plan {
   std::vector<std::string> methods;  ///< -m; empty: the line's method or the default
   ReportLevel level = ReportLevel::kBasic;
-  std::optional<double> accuracy;  ///< overrides each line's
-  bool best_effort = false;        ///< or each line's
-  bool no_diagnostics = false;     ///< or each line's "diagnostics": false
-  FieldSelection fields;           ///< what a fit record keeps; empty: all of it
+  FitFlags flags;
+  FieldSelection fields;  ///< what a fit record keeps; empty: all of it
   std::size_t records_per_line() const { return std::max<std::size_t>(1, methods.size()); }
 };
 
@@ -701,9 +699,7 @@ std::size_t fit_line(std::string_view text, std::size_t line_number, const Plan&
     return records;
   }
   FitOptions fit_options = parsed.fit_options(plan.level);
-  if (plan.accuracy) fit_options.accuracy = *plan.accuracy;
-  fit_options.best_effort = fit_options.best_effort || plan.best_effort;
-  fit_options.diagnostics = fit_options.diagnostics && !plan.no_diagnostics;
+  plan.flags.apply(fit_options);
   std::size_t failed = 0;
   for (std::size_t m = 0; m < records; ++m) {
     const std::string_view method = !plan.methods.empty() ? std::string_view(plan.methods[m])
@@ -732,9 +728,7 @@ std::size_t fit_line(std::string_view text, std::size_t line_number, const Plan&
 int run_batch(const BatchArgs& args) {
   Plan plan;
   plan.level = io::parse_report_level(args.report);
-  plan.accuracy = args.accuracy;
-  plan.best_effort = args.best_effort;
-  plan.no_diagnostics = args.no_diagnostics;
+  plan.flags = args.flags;
   plan.fields = parse_fields(args.fields, plan.level);
   for (const std::string& m : args.methods) {
     plan.methods.emplace_back(find_method(m).name);  // unknown names fail before any work

@@ -9,6 +9,19 @@
 
 namespace fairspline::cli {
 
+/// --accuracy, --best-effort and --no-diagnostics of `fit` and `batch`: each overrides the
+/// request's (a line's) own.
+struct FitFlags {
+  std::optional<double> accuracy;  ///< else the request's, else the default
+  bool best_effort = false;        ///< or the request's "best_effort": true
+  bool no_diagnostics = false;     ///< or the request's "diagnostics": false
+  void apply(FitOptions& f) const {
+    if (accuracy) f.accuracy = *accuracy;
+    f.best_effort = f.best_effort || best_effort;
+    f.diagnostics = f.diagnostics && !no_diagnostics;
+  }
+};
+
 /// The command line of `fairspline batch`.
 struct BatchArgs {
   std::string input;                 ///< JSON Lines file; empty or "-": standard input
@@ -17,9 +30,7 @@ struct BatchArgs {
   std::vector<std::string> methods;  ///< -m, in order; empty: each line's "method" or the default
   std::string report = "basic";      ///< none | basic | full
   bool quiet = false;                ///< no progress line even on a terminal
-  std::optional<double> accuracy;    ///< --accuracy, else each line's, else the default
-  bool best_effort = false;          ///< --best-effort, or each line's
-  bool no_diagnostics = false;       ///< --no-diagnostics, or each line's "diagnostics": false
+  FitFlags flags;
   /// --fields: comma-separated members a fit record keeps ("segments", "report.length"); none:
   /// the whole record.
   std::optional<std::string> fields;

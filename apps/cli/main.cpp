@@ -175,9 +175,7 @@ struct FitArgs {
   std::string report = "basic";
   bool summary = false;
   int indent = -1;
-  std::optional<double> accuracy;   ///< else the request's, else the default
-  bool best_effort = false;         ///< or the request's
-  bool no_diagnostics = false;      ///< or the request's "diagnostics": false
+  fairspline::cli::FitFlags flags;
   std::optional<double> tolerance;  ///< GeoJSON's flattening tolerance, else its default
   CLI::Option* alpha_opt = nullptr;
 };
@@ -284,9 +282,7 @@ int run_fit(const FitArgs& a) {
   // 3. Fit (errors here: exit 1).
   const fairspline::io::SvgOptions svg = fairspline::io::svg_options_from_json(svg_keys);
   fairspline::FitOptions fit_options = parsed.fit_options(level);
-  if (a.accuracy) fit_options.accuracy = *a.accuracy;
-  fit_options.best_effort = fit_options.best_effort || a.best_effort;
-  fit_options.diagnostics = fit_options.diagnostics && !a.no_diagnostics;
+  a.flags.apply(fit_options);
   const fairspline::FitResult result = fairspline::fit(method, in, options, fit_options);
 
   // 4. Output.
@@ -460,16 +456,15 @@ int run_serve(const fairspline::web::ServerOptions& options) {
 }
 
 /// --accuracy, --best-effort and --no-diagnostics, shared by fit and batch.
-void add_fit_options(CLI::App& cmd, std::optional<double>& accuracy, bool& best_effort,
-                     bool& no_diagnostics) {
-  cmd.add_option("--accuracy", accuracy,
+void add_fit_options(CLI::App& cmd, fairspline::cli::FitFlags& flags) {
+  cmd.add_option("--accuracy", flags.accuracy,
                  "Relative accuracy of every approximation, in (0, 1): the report's quadratures "
                  "and searches (default 1e-9), the Beziers of elastic splines (relative to the "
                  "data's size, default 1e-6); a request's \"accuracy\" unless given");
-  cmd.add_flag("--best-effort", best_effort,
+  cmd.add_flag("--best-effort", flags.best_effort,
                "When an iterative method stops short of its tolerance, write its curve with the "
                "solver's status instead of failing (also a request's \"best_effort\": true)");
-  cmd.add_flag("--no-diagnostics", no_diagnostics,
+  cmd.add_flag("--no-diagnostics", flags.no_diagnostics,
                "Leave the per-point and per-piece entries out of method_report, keeping its "
                "summary: at a million points they cost several times the fit (also a request's "
                "\"diagnostics\": false)");
@@ -528,7 +523,7 @@ int run(int argc, char** argv) {
                   "Report level (default: basic; full adds per-piece reports, curvature variation "
                   "and self-intersections)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
-  add_fit_options(*fit, fa.accuracy, fa.best_effort, fa.no_diagnostics);
+  add_fit_options(*fit, fa.flags);
   fit->add_flag("--summary", fa.summary,
                 "Print a summary table (to stdout with -o, else to stderr)");
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")
@@ -554,7 +549,7 @@ int run(int argc, char** argv) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   batch->add_option("--report", bta.report, "Report level (default: basic)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
-  add_fit_options(*batch, bta.accuracy, bta.best_effort, bta.no_diagnostics);
+  add_fit_options(*batch, bta.flags);
   batch
       ->add_option("--fields", bta.fields,
                    "Comma-separated members a fit record keeps, e.g. segments,report.length: "

@@ -18,7 +18,7 @@ void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 /// The smallest block take_block lends from those given back (smaller ones are malloc's).
 inline constexpr std::size_t kKeptBlockMinBytes = std::size_t{4} << 20;
 
-/// Raw memory of one fit (min-energy's arenas).
+/// Raw memory of one fit (min-energy's arenas, its Scratch arrays and BlockVectors).
 struct Block {
   std::unique_ptr<std::byte[]> data;
   std::size_t size = 0;

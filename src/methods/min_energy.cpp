@@ -204,8 +204,7 @@ class Scratch {
   ~Scratch() { detail::give_block(std::move(own_)); }
   void resize(std::size_t n) {
     if (n > cap_) {
-      detail::give_block(std::move(own_));
-      own_ = detail::take_block(n * sizeof(double));
+      detail::give_block(std::exchange(own_, detail::take_block(n * sizeof(double))));
       p_ = reinterpret_cast<double*>(own_.data.get());
       cap_ = own_.size / sizeof(double);
     }
@@ -213,8 +212,7 @@ class Scratch {
   }
   /// Works in the n doubles at p (which must outlive this use), size 0.
   void use(double* p, std::size_t n) {
-    detail::give_block(std::move(own_));
-    own_ = {};
+    detail::give_block(std::exchange(own_, {}));
     p_ = p;
     cap_ = n;
     n_ = 0;
@@ -289,8 +287,7 @@ class FitArena {
   /// (release_solver_arrays).
   void release() {
     pool_.reset();
-    detail::give_block(std::move(block_));
-    block_ = {};
+    detail::give_block(std::exchange(block_, {}));
   }
 
  private:
