@@ -85,7 +85,13 @@ const std::vector<std::string> kInputs = {
     "quasi-elastic-balls-not_converged-s19-c1401.json",
     "quasi-elastic-balls-not_converged-s19-c193.json",
     "quasi-elastic-balls-not_converged-s19-c914.json",
+    // A ball on its circle beside a held barrier (Hessian diagonal 4e10): its gradient cannot
+    // fall below 5.7e-6, one rounding unit of its position's worth, a conditioning limit.
+    "quasi-elastic-balls-not_converged-s41-c1119.json",
     "quasi-elastic-balls-not_converged-s41-c1631.json",
+    // Four points beside a near-repeated pair, whose energy's rounding hid the last steps'
+    // decrease: the stop for flat steps took each new best residual as no progress.
+    "quasi-elastic-balls-not_converged-s41-c940.json",
     // Noisy samples of smooth curves (tools/stress/noisy_shapes.py): a 320-point clothoid and
     // a 320-point ellipse that stopped at the former 200-iteration default of the data-ball
     // optimizer.

@@ -460,13 +460,22 @@ struct Outcome {
   double residual = HUGE_VAL;  // relative KKT residual, each node's over its rounding floor
   double raw = HUGE_VAL;       // the same, without the floors
   double floor = 0.0;          // the largest rounding floor above the tolerance (else 0)
-  std::size_t worst = 0;       // the node where it is largest
+  /// `raw` over the unknowns whose gradient exceeds their resolution (kResolutionUlps) and
+  /// the wrong-signed multipliers: what a stall leaves beyond the doubles' reach.
+  double unresolved = HUGE_VAL;
+  std::size_t worst = 0;  // the node where it is largest
 };
 
 /// A node's residual cannot fall below the rounding of its chords' angles: a chord ℓ between
 /// points of size S has its angle to ~2εS/ℓ, which turns its spans' torques by up to ~12 times
 /// that per weight (E_1's second derivatives); with a margin of 2.
 constexpr double kRoundingFloor = 48.0;
+
+/// An unknown whose gradient is within this many times its Hessian diagonal times its own
+/// resolution (one rounding unit of the position or direction it sets, or of the chord it
+/// changes) is stationary to the precision of doubles: no representable move lowers it further
+/// (s41-c1119: a ball on its circle beside a held barrier, diagonal 4e10, stalled at 5.7e-6).
+constexpr double kResolutionUlps = 8.0;
 
 /// The barrier phase only finds the neighbourhood of the optimum; the active-set phase ends it.
 constexpr double kLastBarrier = 1e-14;
@@ -508,7 +517,8 @@ constexpr double kRestartBarrier = 1e-6;
 // Stopped at the precision the data allow: converged to every node's rounding floor, or no step
 // lowers the energy within kConditioningResidual (or the floor).
 bool stopped_at_precision(const Outcome& o) {
-  return !o.converged && o.stalled && o.residual <= std::max(kConditioningResidual, o.floor);
+  return !o.converged && o.stalled &&
+         std::min(o.residual, o.unresolved) <= std::max(kConditioningResidual, o.floor);
 }
 
 /// The output interpolation's directions agree with the optimizer's to this angle (rad), and
@@ -723,6 +733,7 @@ class Solver {
       residuals(pg, pg_at, wrong, wrong_at);
       o.residual = std::max(pg, wrong) / gscale_;
       o.raw = raw_residual_;
+      o.unresolved = unresolved_;
       o.worst = pg >= wrong ? pg_at : wrong_at;
       if (pg <= target && wrong <= target) {
         o.converged = true;
@@ -804,11 +815,15 @@ class Solver {
         o.stalled = true;
         return stop(o);
       }
-      // Steps accepted only within the rounding of φ: the point is as good as it gets.
+      // Steps accepted only within the rounding of φ while the residual does not fall below
+      // 0.9 of its best before them: the point is as good as it gets. (Compared with the best
+      // including this one, every new best counted as flat: s41-c940 stopped at 2.2e-6 while
+      // its residual fell tenfold per step, beside a near-repeated pair whose energy's
+      // rounding hid the rest's decrease.)
       const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
       adapt_damping(t, phi - e);
-      best_pg = std::min(best_pg, pg);
       flat = e > phi - rounding && pg >= 0.9 * best_pg ? flat + 1 : 0;
+      best_pg = std::min(best_pg, pg);
       std::swap(pb_, trial_);
       std::swap(st_, tst_);
       held_.assign(n_, 0);
@@ -980,25 +995,36 @@ class Solver {
   void residuals(double& pg, std::size_t& pg_at, double& wrong, std::size_t& wrong_at) {
     slot_wrong_.assign(pb_.slot.size(), 0.0);
     node_wrong_.assign(n_, 0.0);
-    double raw = 0.0;
+    double raw = 0.0, unresolved = 0.0;
     for (std::size_t i = 0; i < n_; ++i) {
       const Node& nd = pb_.node[i];
       const double over = std::max(1.0, floor_[i] / tol_);
       const double f = gscale_ / local_[i] / over;
       double here = 0.0;  // this node's largest residual, over its floor
-      auto see = [&](int v) {
-        if (v >= 0) here = std::max(here, f * std::abs(g_[v]));
-        if (v >= 0 && f * std::abs(g_[v]) > pg) {
-          pg = f * std::abs(g_[v]);
+      // One rounding unit of the unknown, scaled: a position is known to that of its offset or
+      // of the chords it is added to, a direction to that of its angle.
+      double chords = 0.0;
+      if (pb_.closed || i > 0) chords = norm(pb_.chord(i == 0 ? ns_ - 1 : i - 1));
+      if (pb_.closed || i + 1 < n_) chords = std::max(chords, norm(pb_.chord(i)));
+      const double at_position = kEps * std::max(norm(nd.o), chords) / nd.scale;
+      auto see = [&](int v, double resolution) {
+        if (v < 0) return;
+        const double gv = std::abs(g_[static_cast<std::size_t>(v)]);
+        here = std::max(here, f * gv);
+        if (f * gv > pg) {
+          pg = f * gv;
           pg_at = i;
         }
+        const double hv = std::abs(h_.diagonal(static_cast<std::size_t>(v)));
+        if (gv > kResolutionUlps * hv * resolution)
+          unresolved = std::max(unresolved, gv / local_[i]);
       };
       for (int s : {nd.in, nd.out}) {
-        if (s >= 0) see(pb_.slot[s].var);
+        if (s >= 0) see(pb_.slot[s].var, kEps * std::max(std::abs(pb_.slot[s].theta), 1.0));
       }
       if (nd.var >= 0) {
-        see(nd.var);
-        if (!nd.boundary) see(nd.var + 1);
+        see(nd.var, at_position);
+        if (!nd.boundary) see(nd.var + 1, at_position);
       }
       for (int s : {nd.in, nd.out}) {
         if (s < 0 || pb_.slot[s].active < 0) continue;
@@ -1018,8 +1044,13 @@ class Solver {
         }
       }
       raw = std::max(raw, here * over / gscale_);
+      for (int s : {nd.in, nd.out}) {
+        if (s >= 0) unresolved = std::max(unresolved, slot_wrong_[s] * over / gscale_);
+      }
+      unresolved = std::max(unresolved, node_wrong_[i] * over / gscale_);
     }
     raw_residual_ = raw;
+    unresolved_ = unresolved;
   }
 
   // ∂E/∂p at node i with the directions on a bound at its chords turning with them.
@@ -1263,7 +1294,7 @@ class Solver {
   double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
   std::vector<double> local_;  // per node: its spans' largest weight
   std::vector<double> floor_;  // per node: the residual its chords' rounding allows
-  double tol_ = 0.0, raw_residual_ = 0.0;
+  double tol_ = 0.0, raw_residual_ = 0.0, unresolved_ = 0.0;
   int max_iterations_ = 200;
   std::vector<double> scale_, g_, step_, slot_wrong_, node_wrong_;
   std::vector<char> held_;
@@ -1383,6 +1414,7 @@ Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barr
     exact.stalled = more.stalled;
     exact.residual = more.residual;
     exact.raw = more.raw;
+    exact.unresolved = more.unresolved;
     exact.worst = more.worst;
     exact.iterations += more.iterations + 1;
   }
