@@ -100,6 +100,10 @@ const std::vector<std::string> kInputs = {
     // An 80-point noisy ellipse that stalled (the exact phase releasing and taking back discs)
     // until a stall restarts along the barrier's path.
     "quasi-elastic-balls-not_converged-noisy-s2-c217.json",
+    // A 320-point noisy ellipse and sine with a ball just inside its circle, pushed outward,
+    // that shifts of 1e2..1e4 (negative curvature elsewhere) moved 5e-10 r per step.
+    "quasi-elastic-balls-not_converged-noisy-s1-c307.json",
+    "quasi-elastic-balls-not_converged-noisy-s3-c165.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
     "restricted-elastic-not_converged-s18-c130322.json",

@@ -500,6 +500,11 @@ constexpr double kSqueezed = 1e-9;
 /// A free position this close to its circle (relative to r) goes onto it, if pushed outward.
 constexpr double kPressed = 1e-6;
 
+/// A free position pushed outward, within this share of its radius from its circle, whose
+/// shifted Newton step covers less than this share of that way, is tried on the circle
+/// (Solver::snap_pressed).
+constexpr double kSnapShare = 1e-2;
+
 /// Positions the barrier left within this fraction of the radius of their circle start on it.
 constexpr double kCrossOver = 1e-3;
 
@@ -793,6 +798,10 @@ class Solver {
         phi = evaluate(mu, border);
         convexify(mu, border);
         newton();
+      }
+      if (mu == 0.0 && shift_ > 0.0 && stuck >= kStuckIterations && snap_pressed(phi)) {
+        held_.assign(n_, 0);
+        continue;
       }
       // With the barrier the step stays inside the discs (a fraction of the way to the circle).
       // Without, the full step is tried with every position that leaves its disc put on the
@@ -1132,6 +1141,40 @@ class Solver {
     std::swap(pb_, p);
     std::swap(st_, s);
     return true;
+  }
+
+  // Under a shift (negative curvature elsewhere), a free position that the energy pushes
+  // outward may cover only a tiny part of its way to the circle per step (noisy-s3-c165: 1e-3 r
+  // inside, force 25, 5e-10 r per step under shifts of 1e4, to the iteration limit). Such
+  // positions are tried on their circles together, kept if that lowers φ.
+  bool snap_pressed(double phi) {
+    std::vector<std::size_t> near;  // pressed outward, within kSnapShare r of the circle
+    std::size_t best = 0;
+    double most = 0.0;  // the largest first-order decrease of one of them
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Node& nd = pb_.node[i];
+      if (nd.var < 0 || nd.boundary || nd.r == 0.0 || g_[nd.var] >= 0.0) continue;
+      const double gap = nd.r - norm(nd.o);
+      const double radial = std::abs(step_[nd.var] * scale_[nd.var]);
+      if (!(gap > 0.0) || gap > kSnapShare * nd.r || radial >= kSnapShare * gap) continue;
+      near.push_back(i);
+      const double decrease = -g_[nd.var] * gap / scale_[nd.var];
+      if (decrease > most) most = decrease, best = i;
+    }
+    auto attempt = [&](std::span<const std::size_t> which) {
+      Problem p = pb_;
+      for (std::size_t i : which) put_on_circle(p.node[i]);
+      State s;
+      chord_angles(p, s);
+      if (!settle(p, s)) return false;
+      const double e = total_energy(p, s) + barrier(p, s, 0.0);
+      if (!(e < phi)) return false;
+      std::swap(pb_, p);
+      std::swap(st_, s);
+      return true;
+    };
+    if (near.empty()) return false;
+    return attempt(near) || (near.size() > 1 && attempt(std::span<const std::size_t>(&best, 1)));
   }
 
   // Frees every constraint whose multiplier has the wrong sign by more than `target`.
