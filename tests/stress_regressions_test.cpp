@@ -79,6 +79,7 @@ const std::vector<std::string> kInputs = {
     "kozak-krajnc-not_converged-s40-c12221.json",
     "kozak-krajnc-not_converged-s40-c2132.json",
     "kozak-krajnc-not_converged-s40-c7446.json",
+    "kozak-krajnc-not_converged-s40-c943.json",
     "quasi-elastic-balls-kkt-s19-c1088.json",
     "quasi-elastic-balls-kkt-s41-c167.json",
     "quasi-elastic-balls-not_converged-s19-c1346.json",
@@ -176,6 +177,9 @@ const std::map<std::string, ErrorCode> kRefused = {
     {"kozak-krajnc-not_converged-s18-c1078.json", ErrorCode::kInfeasible},
     // Six pieces (the scan covered at most five before): the chains end at T9.
     {"kozak-krajnc-not_converged-s18-c370.json", ErrorCode::kInfeasible},
+    // Two pieces: the jump has both signs over ξ1, each on its own branch of the pieces'
+    // solutions, and no branch changes sign.
+    {"kozak-krajnc-not_converged-s40-c943.json", ErrorCode::kInfeasible},
 };
 
 /// Empty when the saved request fits to a certified optimum (or is refused as kRefused says),
@@ -227,6 +231,32 @@ TEST(StressRegressionKozakKrajnc, TheChainScanTakesGivenDirectionsAsFixedLinks) 
   const CubicBezier& after = r.spline.segments[15].bezier;
   const Vec2 d = after.p[1] - after.p[0];
   EXPECT_NEAR(std::atan2(d.y, d.x), std::atan2(-16.477345895752592, -9.189908944974661), 1e-12);
+}
+
+TEST(StressRegressionKozakKrajnc, ABranchThatChangesSignBetweenAdjacentDoublesIsNoProof) {
+  // s40-c7446 (kOpen): a G2 spline exists at ξ1 = 3.9e-4, where the jump steps through zero in
+  // stairs of 4e-5 (the direction's last bit); between the adjacent doubles that bracket it
+  // both pieces' (t1, t2) stay on their branches. That is a root rounding blurs, not a switch
+  // of branch, so the m = 2 scan must not claim that no spline exists.
+  const io::ParsedInput p =
+      io::parse_json_input(read_file(kDir + "/kozak-krajnc-not_converged-s40-c7446.json"));
+  try {
+    fit(*p.method, p.input, p.options);
+  } catch (const Error& e) {
+    EXPECT_NE(e.code(), ErrorCode::kInfeasible) << e.what();
+  }
+  // c943: both signs, each on its own branch, no sign change on any: refused with that reason.
+  const io::ParsedInput q =
+      io::parse_json_input(read_file(kDir + "/kozak-krajnc-not_converged-s40-c943.json"));
+  try {
+    fit(*q.method, q.input, q.options);
+    FAIL() << "expected infeasible";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInfeasible) << e.what();
+    EXPECT_NE(std::string(e.what()).find("on each branch of the pieces' solutions it keeps one"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_P(StressRegression, ConvergesToACertifiedOptimum) {

@@ -1053,6 +1053,11 @@ std::vector<PieceFit> solve_pieces(const Prepared& p, const Directions& d,
   return pieces;
 }
 
+/// A piece's (t1, t2) that moves by more than this between adjacent doubles of ξ has switched
+/// to another branch of solutions (on one branch it moves by ulps times its derivative, at most
+/// ~1e-8 beside a fold).
+constexpr double kBranchGap = 1e-6;
+
 /// The one-unknown G2 problem (m = 2) settled by a scan of ξ1.
 struct G2Scan {
   bool found = false;
@@ -1064,6 +1069,16 @@ struct G2Scan {
   double at = 0.0;
   std::string where;  ///< at the edge of the admissible ξ1, or inside
   std::string scope;  ///< empty, or how the scan was narrowed
+  /// Sign changes of a continued branch pair that bisect to adjacent doubles of ξ where a
+  /// piece's (t1, t2) jumps by more than kBranchGap (the continuation switched to another
+  /// solution where its branch ends) or the jump has a pole: not roots.
+  int switches = 0;
+  /// A sign change that ended neither at a root nor at such a switch (e.g. the pieces lost
+  /// their solutions inside the bracket): nothing can be claimed.
+  bool unexplained = false;
+  /// Jumps of both signs, but each continued branch pair keeps its sign (up to the grid's
+  /// resolution): no root either.
+  bool branchwise() const { return !found && sign == 0 && smallest < kInf && !unexplained; }
 };
 
 /// Scans ξ1 ∈ (0, 1) on a fine grid for a sign change of the scaled curvature jump (1.4) at T3,
@@ -1102,15 +1117,16 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
     const double jl = jump(l1, l2), jr = jump(r1, r2);
     if (!(std::isfinite(jl) && std::isfinite(jr)) || (jl > 0) == (jr > 0)) return false;
     double lo = xl, hi = x, jlo = jl, jhi = jr;
+    PieceFit h1 = r1, h2 = r2;
     for (int it = 0; it < 80 && std::nextafter(lo, hi) != hi; ++it) {
       const double mid = 0.5 * (lo + hi);
       PieceFit m1, m2;
-      if (!pieces_at(mid, &l1, &l2, m1, m2)) break;
+      if (!pieces_at(mid, &l1, &l2, m1, m2)) break;  // (then unexplained, below)
       const double jm = jump(m1, m2);
       if ((jm > 0) == (jlo > 0)) {
         lo = mid, jlo = jm, l1 = m1, l2 = m2;
       } else {
-        hi = mid, jhi = jm;
+        hi = mid, jhi = jm, h1 = m1, h2 = m2;
       }
     }
     record(lo, jlo);
@@ -1134,6 +1150,21 @@ G2Scan scan_g2(const Geometry& g, double xi0, double xi1, double xi2, int max_it
                          .residual = std::abs(jlo),
                          .reason = "the jump changes sign between adjacent doubles of ξ"};
       return true;
+    }
+    // Between adjacent doubles, a sign change is a root blurred by rounding (s40-c7446: a
+    // staircase of steps 4e-5 through zero), unless a piece's (t1, t2) jumps there (the
+    // continuation switched to another solution where its branch ends) or the jump passes
+    // through a pole.
+    auto gap = [](const PieceFit& a, const PieceFit& b) {
+      return std::max(std::abs(a.s.t1 - b.s.t1), std::abs(a.s.t2 - b.s.t2));
+    };
+    const bool adjacent = std::nextafter(lo, hi) == hi;
+    const bool switched = std::max(gap(l1, h1), gap(l2, h2)) > kBranchGap;
+    const bool pole = std::min(std::abs(jlo), std::abs(jhi)) > 1.0 / kG2Resolved;
+    if (adjacent && (switched || pole)) {
+      ++out.switches;
+    } else {
+      out.unexplained = true;
     }
     return false;
   };
@@ -1613,6 +1644,19 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                       detail::format_number(scan.smallest) +
                       " at ξ = " + detail::format_number(scan.at) + ", " + scan.where +
                       "); ask for a best effort to get the G1 spline instead",
+                  3);
+    } else if (scan.branchwise() && !options.best_effort) {
+      throw Error(ErrorCode::kInfeasible,
+                  "kozak-krajnc: no G2 spline for the end directions of the tangent rule: over "
+                  "every ξ at " +
+                      pt(3) + " with admissible pieces" + scan.scope +
+                      " the scaled curvature jump there has both signs, but on each branch of "
+                      "the pieces' solutions it keeps one (smallest " +
+                      detail::format_number(scan.smallest) + " at ξ = " +
+                      detail::format_number(scan.at) + "; " + std::to_string(scan.switches) +
+                      " sign changes, each between adjacent doubles of ξ where a piece's "
+                      "solution switches branch or the jump has a pole); ask for a best effort "
+                      "to get the G1 spline instead",
                   3);
     } else if (!scan.found && scan.sign == 0 && scan.smallest < kInf) {
       // Both signs, but on different solutions of the pieces (or one branch's sign change that
