@@ -1634,33 +1634,30 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       d.in_xi = in_swept_sets(d.sw, d.xi);
       o.rep = scan.rep;
       o.start = "scan";
-    } else if (!scan.found && scan.sign != 0 && !options.best_effort) {
+    } else if (!scan.found && (scan.sign != 0 || scan.branchwise()) && !options.best_effort) {
+      // No root: one sign over every admissible ξ, or one sign on each branch.
+      const std::string why =
+          scan.sign != 0
+              ? std::string("keeps ") + (scan.sign > 0 ? "positive" : "negative") +
+                    " sign (smallest " + detail::format_number(scan.smallest) +
+                    " at ξ = " + detail::format_number(scan.at) + ", " + scan.where + ")"
+              : "has both signs, but on each branch of the pieces' solutions it keeps one "
+                "(smallest " +
+                    detail::format_number(scan.smallest) +
+                    " at ξ = " + detail::format_number(scan.at) + "; " +
+                    std::to_string(scan.switches) +
+                    " sign changes, each between adjacent doubles of ξ where a piece's "
+                    "solution switches branch or the jump has a pole)";
       throw Error(ErrorCode::kInfeasible,
                   "kozak-krajnc: no G2 spline for the end directions of the tangent rule: over "
                   "every ξ at " +
                       pt(3) + " with admissible pieces" + scan.scope +
-                      " the scaled curvature jump there keeps " +
-                      (scan.sign > 0 ? "positive" : "negative") + " sign (smallest " +
-                      detail::format_number(scan.smallest) +
-                      " at ξ = " + detail::format_number(scan.at) + ", " + scan.where +
-                      "); ask for a best effort to get the G1 spline instead",
-                  3);
-    } else if (scan.branchwise() && !options.best_effort) {
-      throw Error(ErrorCode::kInfeasible,
-                  "kozak-krajnc: no G2 spline for the end directions of the tangent rule: over "
-                  "every ξ at " +
-                      pt(3) + " with admissible pieces" + scan.scope +
-                      " the scaled curvature jump there has both signs, but on each branch of "
-                      "the pieces' solutions it keeps one (smallest " +
-                      detail::format_number(scan.smallest) + " at ξ = " +
-                      detail::format_number(scan.at) + "; " + std::to_string(scan.switches) +
-                      " sign changes, each between adjacent doubles of ξ where a piece's "
-                      "solution switches branch or the jump has a pole); ask for a best effort "
-                      "to get the G1 spline instead",
+                      " the scaled curvature jump there " + why +
+                      "; ask for a best effort to get the G1 spline instead",
                   3);
     } else if (!scan.found && scan.sign == 0 && scan.smallest < kInf) {
-      // Both signs, but on different solutions of the pieces (or one branch's sign change that
-      // no polish resolved): neither a root nor a proof that none exists.
+      // Both signs, and a sign change on one branch that is neither a polished root nor a
+      // switch of branch: neither a root nor a proof that none exists.
       scan_note = "; a scan of every ξ at " + pt(3) +
                   " found jumps of both signs but no sign change that polishes to a root (least " +
                   detail::format_number(scan.smallest) +
