@@ -604,9 +604,23 @@ double node_residual(const Chain& ch, std::span<const double> g, double gscale, 
   return std::abs(ch.x[i] - std::clamp(ch.x[i] - g[i] / gscale, ch.lo[i], ch.hi[i]));
 }
 
+/// Node i held by the active set (Bertsekas): fixed, or within eps of a bound with the gradient
+/// pushing outwards. Branch-free: each factorization reads the flags (several when the system
+/// needs a shift), and the test's branches were 6% of a fit.
+inline char held(const Chain& ch, std::span<const double> g, double eps, std::size_t i) {
+  return static_cast<char>(ch.fixed[i] | ((ch.x[i] <= ch.lo[i] + eps) & (g[i] > 0.0)) |
+                           ((ch.x[i] >= ch.hi[i] - eps) & (g[i] < 0.0)));
+}
+
+/// The active set's band around the bounds: eps = min(kActiveBand, pg).
+constexpr double kActiveBand = 1e-8;
+
 /// `above`, if given: how many nodes' residuals exceed `tol` (the windows' test, in the same pass).
+/// `active`, if given: held(…, kActiveBand, i) per node, in the same pass (a pass over the
+/// nodes' arrays fewer per iteration; right whenever pg >= kActiveBand).
 double projected_gradient(const Chain& ch, std::span<const double> g, double gscale,
-                          std::size_t& worst, double tol = 0.0, std::size_t* above = nullptr) {
+                          std::size_t& worst, double tol = 0.0, std::size_t* above = nullptr,
+                          char* active = nullptr) {
   double pg = 0.0;
   std::size_t count = 0;
   worst = 0;
@@ -614,6 +628,7 @@ double projected_gradient(const Chain& ch, std::span<const double> g, double gsc
     const double v = node_residual(ch, g, gscale, i);
     count += v > tol;
     if (v > pg) pg = v, worst = i;
+    if (active) active[i] = held(ch, g, kActiveBand, i);
   }
   if (above) *above = count;
   return pg;
@@ -800,7 +815,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // in at every fit).
   Scratch block(10 * k);
   Evaluation ev, trial;
-  Scratch dir, dd, ee, work;
+  Scratch dir, dd, ee, work, kept_dir;
   {
     double* p = block.begin();
     for (Scratch* a : {&ev.g, &ev.d, &ev.e, &trial.g, &trial.d, &trial.e, &dir}) {
@@ -876,7 +891,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   int flat = 0;
   for (res.iterations = 0; res.iterations <= detail::iteration_limit(opt); ++res.iterations) {
     std::size_t n_above = 0;
-    const double pg = projected_gradient(ch, ev.g, gscale, res.worst, tol, &n_above);
+    const double pg = projected_gradient(ch, ev.g, gscale, res.worst, tol, &n_above, active.data());
     res.pg = pg;
     if (pg <= tol) {
       res.converged = true;
@@ -898,13 +913,9 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       }
     }
     windows_last = false;
-    // Active set (Bertsekas): at a bound with the gradient pushing outwards.
-    // Flagged once per iteration, branch-free: each factorization reads them (several when the
-    // system needs a shift), and the test's branches were 6% of a fit.
-    const double eps = std::min(1e-8, pg);
-    for (std::size_t i = 0; i < k; ++i) {
-      active[i] = static_cast<char>(ch.fixed[i] | ((ch.x[i] <= ch.lo[i] + eps) & (ev.g[i] > 0.0)) |
-                                    ((ch.x[i] >= ch.hi[i] - eps) & (ev.g[i] < 0.0)));
+    // Active set: flagged with the stop test unless pg is inside the band.
+    if (pg < kActiveBand) {
+      for (std::size_t i = 0; i < k; ++i) active[i] = held(ch, ev.g, pg, i);
     }
     auto is_active = [&](std::size_t i) -> bool { return active[i] != 0; };
     // Reduced Newton system (identity rows for active directions), shifted until positive
@@ -944,8 +955,9 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
         // D_i = 1/(d_i − e_{i−1}² D_{i−1}) waited for a division (the loop's latency, ~40% of a
         // fit at 10^5 points); the divisions are independent. q is kept within 2^±512 by exact
         // power-of-two rescaling. The floor: 1/D_i > 1e-14 · the largest diagonal.
+        // A non-positive pivot ends the pass: the shift search's indefinite tries (a random
+        // 10^6-point walk's first iteration made five) stop at the first concave row.
         double scale = 0.0, max_inv = 0.0, q1 = 1.0, q2 = 0.0, e2 = 0.0;  // q_{i−1}, q_{i−2}
-        bool bad = false;
         for (std::size_t i = 0; i < k; ++i) {
           const bool next = i + 1 < k ? is_active(i + 1) : act0;
           double di, ei, bi;
@@ -953,7 +965,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
           scale = std::max(scale, std::abs(di));
           double q = di * q1 - e2 * q2;
           const double inv = q1 / q;
-          bad = bad || !(inv > 0.0);
+          if (!(inv > 0.0)) return Factor::kIndefinite;
           max_inv = std::max(max_inv, inv);
           D[i] = inv;
           if (!(std::abs(q) <= 0x1p512 && std::abs(q) >= 0x1p-512) && std::isnormal(q)) {
@@ -971,7 +983,6 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
           }
           act = next;
         }
-        if (bad) return Factor::kIndefinite;
         if (!(max_inv * (1e-14 * scale) < 1.0)) return Factor::kSmallPivot;
         dir[k - 1] *= D[k - 1];
         for (std::size_t i = k - 1; i-- > 0;) dir[i] = dir[i] * D[i] - l[i] * dir[i + 1];
@@ -1003,12 +1014,26 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
         last_result = solve(psd_first, std::ldexp(base, 2 * j));
         return last_result;
       };
+      // The direction of the least shift that factored so far, kept (swapped out of `dir`) so
+      // that the search's answer is not solved a second time when a later try overwrote it.
+      int kept = -1;
       int indefinite = -1, definite = shifts;
       while (definite - indefinite > 1) {
         const int mid = (indefinite + definite) / 2;
-        (shifted(mid) == Factor::kIndefinite ? indefinite : definite) = mid;
+        const Factor f = shifted(mid);
+        (f == Factor::kIndefinite ? indefinite : definite) = mid;
+        if (f == Factor::kOk) {
+          kept_dir.resize(k);
+          std::swap(dir, kept_dir);
+          kept = mid;
+          last = -1;
+        }
       }
       for (int j = definite; j < shifts; ++j) {
+        if (kept == j) {
+          std::swap(dir, kept_dir);
+          break;
+        }
         if ((last == j ? last_result : shifted(j)) == Factor::kOk) break;
       }
     }
