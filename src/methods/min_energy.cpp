@@ -579,6 +579,51 @@ Factor ldl_solve(std::span<const double> d, std::span<const double> e, bool corn
   return Factor::kOk;
 }
 
+/// Solves an open symmetric tridiagonal system of k rows by LDLᵀ, each row made when the
+/// factorization reaches it: row(i, d, e, b) gives the diagonal, the coupling to row i + 1 (not
+/// read for the last row) and the right-hand side (one pass over the data instead of three:
+/// build, scale, factor). x gets the solution, work holds 2k doubles. The pivots are ratios of
+/// continuants, q_i = d_i q_{i−1} − e_{i−1}² q_{i−2}, D_i = q_{i−1}/q_i: the serial dependence is
+/// a multiply and a subtract per row, where D_i = 1/(d_i − e_{i−1}² D_{i−1}) waited for a
+/// division (the loop's latency, ~40% of a fit at 10^5 points; 12 of the 22 ms of the start at
+/// 10^6); the divisions are independent. q is kept within 2^±512 by exact power-of-two
+/// rescaling. The floor is ldl_solve's, 1/D_i > 1e-14 · the largest diagonal, known only at the
+/// end; a non-positive pivot ends the pass at once (the shift search's indefinite tries: a
+/// random 10^6-point walk's first iteration made five, all failing at one concave span).
+template <typename Row>
+Factor solve_open_tridiagonal(std::size_t k, Row&& row, double* x, double* work) {
+  double* D = work;
+  double* l = work + k;
+  double scale = 0.0, max_inv = 0.0, q1 = 1.0, q2 = 0.0, e2 = 0.0;  // q_{i−1}, q_{i−2}
+  for (std::size_t i = 0; i < k; ++i) {
+    double di, ei, bi;
+    row(i, di, ei, bi);
+    scale = std::max(scale, std::abs(di));
+    double q = di * q1 - e2 * q2;
+    const double inv = q1 / q;
+    if (!(inv > 0.0)) return Factor::kIndefinite;
+    max_inv = std::max(max_inv, inv);
+    D[i] = inv;
+    if (!(std::abs(q) <= 0x1p512 && std::abs(q) >= 0x1p-512) && std::isnormal(q)) {
+      const int ex = std::ilogb(q);
+      q = std::scalbn(q, -ex);
+      q1 = std::scalbn(q1, -ex);
+    }
+    q2 = q1;
+    q1 = q;
+    if (i > 0) bi -= l[i - 1] * x[i - 1];
+    x[i] = bi;
+    if (i + 1 < k) {
+      l[i] = ei * inv;
+      e2 = ei * ei;
+    }
+  }
+  if (!(max_inv * (1e-14 * scale) < 1.0)) return Factor::kSmallPivot;
+  x[k - 1] *= D[k - 1];
+  for (std::size_t i = k - 1; i-- > 0;) x[i] = x[i] * D[i] - l[i] * x[i + 1];
+  return Factor::kOk;
+}
+
 struct ChainResult {
   int iterations = 0;
   int window_passes = 0;
@@ -944,49 +989,13 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
       bool act = is_active(0);
       const bool act0 = act;
       if (!cyclic || k < 3) {
-        // ldl_solve with the rows built inside its loop: one pass over the nodes instead of
-        // three (build, scale, factor), no dd/ee arrays. A pivot at or below ldl_solve's
-        // floor, known only once the scale is, rejects the whole solve.
         work.resize(2 * k);
-        double* D = work.begin();
-        double* l = D + k;
-        // The pivots as ratios of continuants, q_i = d_i q_{i−1} − e_{i−1}² q_{i−2}, D_i =
-        // q_{i−1}/q_i: the serial dependence is a multiply and a subtract per node, where
-        // D_i = 1/(d_i − e_{i−1}² D_{i−1}) waited for a division (the loop's latency, ~40% of a
-        // fit at 10^5 points); the divisions are independent. q is kept within 2^±512 by exact
-        // power-of-two rescaling. The floor: 1/D_i > 1e-14 · the largest diagonal.
-        // A non-positive pivot ends the pass: the shift search's indefinite tries (a random
-        // 10^6-point walk's first iteration made five) stop at the first concave row.
-        double scale = 0.0, max_inv = 0.0, q1 = 1.0, q2 = 0.0, e2 = 0.0;  // q_{i−1}, q_{i−2}
-        for (std::size_t i = 0; i < k; ++i) {
+        auto open_row = [&](std::size_t i, double& di, double& ei, double& bi) {
           const bool next = i + 1 < k ? is_active(i + 1) : act0;
-          double di, ei, bi;
           row(i, act, next, di, ei, bi);
-          scale = std::max(scale, std::abs(di));
-          double q = di * q1 - e2 * q2;
-          const double inv = q1 / q;
-          if (!(inv > 0.0)) return Factor::kIndefinite;
-          max_inv = std::max(max_inv, inv);
-          D[i] = inv;
-          if (!(std::abs(q) <= 0x1p512 && std::abs(q) >= 0x1p-512) && std::isnormal(q)) {
-            const int ex = std::ilogb(q);
-            q = std::scalbn(q, -ex);
-            q1 = std::scalbn(q1, -ex);
-          }
-          q2 = q1;
-          q1 = q;
-          if (i > 0) bi -= l[i - 1] * dir[i - 1];
-          dir[i] = bi;
-          if (i + 1 < k) {
-            l[i] = ei * inv;
-            e2 = ei * ei;
-          }
           act = next;
-        }
-        if (!(max_inv * (1e-14 * scale) < 1.0)) return Factor::kSmallPivot;
-        dir[k - 1] *= D[k - 1];
-        for (std::size_t i = k - 1; i-- > 0;) dir[i] = dir[i] * D[i] - l[i] * dir[i + 1];
-        return Factor::kOk;
+        };
+        return solve_open_tridiagonal(k, open_row, dir.begin(), work.begin());
       }
       dd.resize(k);
       ee.resize(k);
@@ -2097,6 +2106,40 @@ void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale) {
   for (std::size_t i = 0; i < k; ++i) {
     if (!(std::abs(ch.a[i]) <= kPi / 3.0 && std::abs(ch.b[i]) <= kPi / 3.0)) return;
   }
+  const double unit = pivot_unit(gscale);
+  // The solution, clamped into the boxes, unless something in it is not finite (x stays 0).
+  auto take = [&](const double* sol) {
+    for (std::size_t i = 0; i < k; ++i) {
+      if (!std::isfinite(sol[i])) return;
+    }
+    for (std::size_t i = 0; i < k; ++i) {
+      if (!ch.fixed[i]) ch.x[i] = std::clamp(sol[i], ch.lo[i], ch.hi[i]);
+    }
+  };
+  if (!ch.closed) {
+    // Rows made inside the factorization's pass, each as the loop below would sum it.
+    Scratch block(3 * k);
+    const std::span<const double> w = ch.w, a = ch.a, b = ch.b;
+    auto row = [&](std::size_t i, double& di, double& ei, double& bi) {
+      if (ch.fixed[i]) {  // held at x = 0: an identity row, decoupled
+        di = unit, ei = 0.0, bi = 0.0;
+        return;
+      }
+      di = 0.0, bi = 0.0, ei = 0.0;
+      if (i > 0) {  // segment i − 1 ends here
+        di += w[i - 1] * p;
+        bi -= w[i - 1] * (q * a[i - 1] + p * b[i]);
+      }
+      if (i + 1 < k) {  // segment i starts here
+        di += w[i] * p;
+        bi -= w[i] * (p * a[i] + q * b[i + 1]);
+        ei = ch.fixed[i + 1] ? 0.0 : w[i] * q;
+      }
+    };
+    double* sol = block.begin();
+    if (solve_open_tridiagonal(k, row, sol, sol + k) == Factor::kOk) take(sol);
+    return;
+  }
   // One block for the system and ldl_solve's 3k, so that it spans huge pages from 10^5 nodes
   // (four arrays of 4 KiB pages were ~1200 page faults, a tenth of a fit's time there).
   Scratch block(6 * k), d, e, rhs, work;
@@ -2117,7 +2160,6 @@ void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale) {
     rhs[i] -= w * (p * a + q * b);
     rhs[j] -= w * (q * a + p * b);
   }
-  const double unit = pivot_unit(gscale);
   for (std::size_t i = 0; i < k; ++i) {
     if (!ch.fixed[i]) continue;  // held at x = 0: an identity row, decoupled
     d[i] = unit;
@@ -2126,13 +2168,7 @@ void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale) {
     if (i > 0 || ch.closed) e[i == 0 ? k - 1 : i - 1] = 0.0;
   }
   if (!ch.closed) e[k - 1] = 0.0;
-  if (ldl_solve(d, e, ch.closed, rhs, work) != Factor::kOk) return;
-  for (std::size_t i = 0; i < k; ++i) {
-    if (!std::isfinite(rhs[i])) return;
-  }
-  for (std::size_t i = 0; i < k; ++i) {
-    if (!ch.fixed[i]) ch.x[i] = std::clamp(rhs[i], ch.lo[i], ch.hi[i]);
-  }
+  if (ldl_solve(d, e, ch.closed, rhs, work) == Factor::kOk) take(rhs.begin());
 }
 
 /// Frees what only the optimizer reads, once a chain's directions are final: the output needs
