@@ -58,13 +58,19 @@ struct BlockAllocator {
 template <typename T>
 using BlockVector = std::vector<T, BlockAllocator<T>>;
 
-/// v.resize(n), the new storage advised before anything touches it (reserve does not).
+/// v.reserve(n), the new storage advised before anything touches it.
 template <typename T, typename A>
-void resize_huge(std::vector<T, A>& v, std::size_t n) {
+void reserve_huge(std::vector<T, A>& v, std::size_t n) {
   if (n > v.capacity()) {
     v.reserve(n);
     advise_huge_pages(v.data(), n * sizeof(T));
   }
+}
+
+/// v.resize(n), the new storage advised before anything touches it (reserve does not).
+template <typename T, typename A>
+void resize_huge(std::vector<T, A>& v, std::size_t n) {
+  reserve_huge(v, n);
   v.resize(n);
 }
 

@@ -2415,7 +2415,18 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   // The result's Béziers and tangents only now, when the optimizer's work arrays are gone (a
   // long fit held both at once: its peak memory).
   out.spline.closed = out.closed;
-  detail::resize_huge(out.spline.segments, segs);
+  // The chains give the segments in index order unless a closed curve is cut (its first chain
+  // starts at a cut): then each is written in its place. In order, each is appended, written
+  // once (default-constructing them first was a second pass over the result's largest array,
+  // ~10 ms of a 10^6-point fit). The elastic bases' pieces are assembled at the end.
+  const bool in_order = !out.closed || (chains.size() == 1 && chains[0].closed);
+  std::vector<Segment>& segments = out.spline.segments;
+  segments.clear();
+  if (!elastic && in_order) {
+    detail::reserve_huge(segments, segs);
+  } else if (!elastic) {
+    detail::resize_huge(segments, segs);
+  }
   detail::resize_huge(out.tangents, n);
   for (const Chain& ch : chains) {
     const std::size_t k = ch.node.size();
@@ -2450,11 +2461,15 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       }
       rep.energy += ch.w[s] * energy_cs(m, ca, sa, cb, sb).e;
       const BasicSpeeds sp = speeds_cs(m, ca, sa, cb, sb);
-      out.spline.segments[seg] = {
-          {{p0, p0 + (L * sp.s0 / 3.0) * uout, p1 - (L * sp.s1 / 3.0) * uj, p1}},
-          out.knots[seg],
-          out.knots[seg + 1],
-          seg};
+      const Segment piece{{{p0, p0 + (L * sp.s0 / 3.0) * uout, p1 - (L * sp.s1 / 3.0) * uj, p1}},
+                          out.knots[seg],
+                          out.knots[seg + 1],
+                          seg};
+      if (in_order) {
+        segments.push_back(piece);
+      } else {
+        segments[seg] = piece;
+      }
     };
     // One pass: segment t − 1 once node t's direction is known (the closing one at the end).
     const Vec2 u0 = incoming(0);
