@@ -35,9 +35,12 @@ TEST(BlockCache, ALargeBlockGivenBackIsTakenAgain) {
 
 TEST(BlockCache, SmallAndHugeBlocksAreNotKept) {
   std::thread([] {
-    // Under 4 MiB: freed (malloc keeps those), so a smaller request gets a block of its size.
-    give_block(take_block(kMiB));
-    EXPECT_EQ(take_block(kMiB / 2).size, kMiB / 2);
+    // Under kKeptBlockMinBytes: freed, so a smaller request gets a block of its size.
+    give_block(take_block(kKeptBlockMinBytes - 1));
+    EXPECT_EQ(take_block(kKeptBlockMinBytes / 2).size, kKeptBlockMinBytes / 2);
+    // From it on, kept: a fit at 10^3 points takes its temporaries from here.
+    give_block(take_block(kKeptBlockMinBytes + 64));
+    EXPECT_EQ(take_block(kKeptBlockMinBytes).size, kKeptBlockMinBytes + 64);
     // Above the 256 MiB limit: freed too.
     give_block(take_block(300 * kMiB));
     EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);

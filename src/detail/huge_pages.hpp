@@ -15,8 +15,11 @@ namespace fairspline::detail {
 /// off Linux. Memory is not rounded up: the partial pages at either end stay small.
 void advise_huge_pages(void* p, std::size_t bytes) noexcept;
 
-/// The smallest block take_block lends from those given back (smaller ones are malloc's).
-inline constexpr std::size_t kKeptBlockMinBytes = std::size_t{4} << 20;
+/// The smallest block take_block lends from those given back (smaller ones are malloc's). Not
+/// larger: a fit's freed temporaries of a few hundred KiB at 10^3 points left glibc's heap top
+/// above its trim threshold, and it gave them back to the kernel after every fit (32 page
+/// faults a fit, 0.17 → 0.6–0.8 ms, depending on what else the process had freed before).
+inline constexpr std::size_t kKeptBlockMinBytes = std::size_t{64} << 10;
 
 /// Raw memory of one fit (min-energy's arenas, its Scratch arrays and BlockVectors).
 struct Block {
@@ -28,10 +31,10 @@ struct Block {
 /// thread gave back (its pages are mapped already) if it is at most twice the size asked for,
 /// else a new one (uninitialized either way).
 Block take_block(std::size_t bytes);
-/// Keeps `b` for this thread's next take_block, or frees it. Only blocks of 4 MiB and more are
-/// kept (malloc reuses smaller ones itself; larger ones it maps afresh, and the kernel zeroes
-/// their pages again: ~200 MB at 10^6 points, 12% of a fit), at most sixteen and 256 MiB in
-/// all: the largest stay. They are freed when the thread ends.
+/// Keeps `b` for this thread's next take_block, or frees it. Blocks of kKeptBlockMinBytes and
+/// more are kept (glibc maps large ones afresh, and the kernel zeroes their pages again: ~200 MB
+/// at 10^6 points, 12% of a fit; smaller ones it may return to the kernel as its heap top),
+/// at most sixteen and 256 MiB in all: the largest stay. They are freed when the thread ends.
 void give_block(Block b) noexcept;
 
 /// An allocator whose arrays of kKeptBlockMinBytes and more are take_block's and go back by
