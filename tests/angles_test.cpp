@@ -1,4 +1,5 @@
-// detail::atan2_right (src/detail/angles.hpp) against long double atan2l.
+// detail::half_angle and detail::atan2_right (src/detail/angles.hpp); the angle against long
+// double atan2l.
 #include "detail/angles.hpp"
 
 #include <gtest/gtest.h>
@@ -43,16 +44,13 @@ TEST(Atan2Right, UnitHalfAnglesOfTurnsAsTheStencilsUseThem) {
   std::uniform_real_distribution<double> turn(-kPi, kPi);
   double worst = 0.0;
   for (int i = 0; i < 1000000; ++i) {
-    const double psi = turn(rng), c = std::cos(psi), sn = std::sin(psi);
-    double hc, hs;
-    if (c > -0.5) {
-      hc = std::sqrt(0.5 * (1.0 + c));
-      hs = sn / (2.0 * hc);
-    } else {
-      hs = (sn < 0.0 ? -1.0 : 1.0) * std::sqrt(0.5 * (1.0 - c));
-      hc = sn / (2.0 * hs);
-    }
+    const double psi = turn(rng);
+    const HalfAngle h = half_angle(std::cos(psi), std::sin(psi));
+    const double hc = h.c, hs = h.s;
     ASSERT_GE(hc, 0.0);
+    // The half-angle formulas themselves: within a few rounding units of cos, sin of ψ/2.
+    ASSERT_NEAR(hc, std::cos(psi / 2.0), 8e-16);
+    ASSERT_NEAR(hs, std::sin(psi / 2.0), 8e-16);
     const long double exact =
         std::atan2(static_cast<long double>(hs), static_cast<long double>(hc));
     worst = std::max(worst, ulps(atan2_right(hs, hc), exact));

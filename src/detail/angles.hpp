@@ -1,4 +1,5 @@
-// Angles of directions in the right half-plane, faster than libm's atan2 (private).
+// Half angles, and angles of directions in the right half-plane faster than libm's atan2
+// (private).
 #pragma once
 
 #include <cmath>
@@ -6,6 +7,24 @@
 #include "detail/numbers.hpp"
 
 namespace fairspline::detail {
+
+/// The cosine and sine of half an angle ψ in (−π, π].
+struct HalfAngle {
+  double c = 1.0, s = 0.0;
+};
+
+/// cos(ψ/2) and sin(ψ/2) from c = cos ψ and sn = sin ψ by the half-angle formulas, without
+/// trigonometry: the square root of the one of (1 ± c)/2 that does not cancel, the other from
+/// sin ψ = 2 sin(ψ/2) cos(ψ/2). The cosine is never negative (a right-half-plane direction,
+/// for atan2_right).
+inline HalfAngle half_angle(double c, double sn) {
+  if (c > -0.5) {
+    const double hc = std::sqrt(0.5 * (1.0 + c));
+    return {hc, sn / (2.0 * hc)};
+  }
+  const double hs = (sn < 0.0 ? -1.0 : 1.0) * std::sqrt(0.5 * (1.0 - c));
+  return {sn / (2.0 * hs), hs};
+}
 
 /// atan2(y, x) for x >= 0 (directions in the right half-plane, e.g. the half angle of a turn,
 /// whose cosine is not negative), within 1.6 ulp of the exact angle (tests/angles_test.cpp

@@ -1964,14 +1964,8 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
       Vec2 ref;
       double hc = 1.0, hs = 0.0, half = 0.0, half_psi = 0.0;
       if (has_next && has_prev) {
-        const double c = dot(ep, en), sn = cross(ep, en);
-        if (c > -0.5) {
-          hc = std::sqrt(0.5 * (1.0 + c));
-          hs = sn / (2.0 * hc);
-        } else {
-          hs = (sn < 0.0 ? -1.0 : 1.0) * std::sqrt(0.5 * (1.0 - c));
-          hc = sn / (2.0 * hs);
-        }
+        const detail::HalfAngle h = detail::half_angle(dot(ep, en), cross(ep, en));
+        hc = h.c, hs = h.s;
         ref = {ep.x * hc - ep.y * hs, ep.y * hc + ep.x * hs};
         // ψ/2 from its cosine hc >= 0 and sine (glibc's atan2 of (sn, c) was 10% of a fit at
         // 10^3 points).
