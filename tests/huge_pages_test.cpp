@@ -2,6 +2,8 @@
 // their memory from.
 #include "detail/huge_pages.hpp"
 
+#include "fairspline/fit.hpp"
+
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -44,6 +46,19 @@ TEST(BlockCache, SmallAndHugeBlocksAreNotKept) {
     // Above the 256 MiB limit: freed too.
     give_block(take_block(300 * kMiB));
     EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);
+  }).join();
+}
+
+TEST(BlockCache, KeepFitMemoryFalseFreesTheKeptBlocksAndKeepsNoMore) {
+  std::thread([] {
+    give_block(take_block(8 * kMiB));
+    keep_fit_memory(false);  // the 8 MiB block is freed now
+    EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);
+    give_block(take_block(8 * kMiB));  // and this one when given back
+    EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);
+    keep_fit_memory(true);
+    give_block(take_block(8 * kMiB));
+    EXPECT_EQ(take_block(5 * kMiB).size, 8 * kMiB);
   }).join();
 }
 

@@ -205,11 +205,14 @@ std::string output_format(const std::string& format, const std::string& output) 
 /// One fit per process: large blocks go straight to mmap and back to the system when freed.
 /// glibc otherwise raises its mmap threshold to the largest block freed so far (the input
 /// text, ~40 bytes a point), after which the solver's freed work arrays stayed resident beside
-/// the result's (2·10^5 points: 74 MB peak instead of 55, docs/methods/min-energy.md).
+/// the result's (2·10^5 points: 74 MB peak instead of 55, docs/methods/min-energy.md); and
+/// the library's per-thread cache of blocks for a next fit, which never comes, did the same
+/// (84 MB).
 void return_large_blocks() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
 #endif
+  fairspline::keep_fit_memory(false);
 }
 
 int run_fit(const FitArgs& a) {

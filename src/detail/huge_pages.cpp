@@ -1,5 +1,7 @@
 #include "detail/huge_pages.hpp"
 
+#include "fairspline/fit.hpp"
+
 #include <array>
 #include <cstdint>
 #include <utility>
@@ -29,6 +31,7 @@ namespace {
 constexpr std::size_t kKeptMaxBytes = std::size_t{256} << 20;
 
 thread_local std::array<Block, 16> t_kept;
+thread_local bool t_keep = true;
 
 }  // namespace
 
@@ -48,7 +51,7 @@ Block take_block(std::size_t bytes) {
 }
 
 void give_block(Block b) noexcept {
-  if (!b.data || b.size < kKeptBlockMinBytes || b.size > kKeptMaxBytes) return;
+  if (!t_keep || !b.data || b.size < kKeptBlockMinBytes || b.size > kKeptMaxBytes) return;
   // Into an empty slot, else in place of the smallest kept block if b is larger.
   Block* slot = &t_kept[0];
   for (Block& k : t_kept) {
@@ -69,3 +72,12 @@ void give_block(Block b) noexcept {
 }
 
 }  // namespace fairspline::detail
+
+namespace fairspline {
+
+void keep_fit_memory(bool keep) {
+  detail::t_keep = keep;
+  if (!keep) detail::t_kept = {};
+}
+
+}  // namespace fairspline
