@@ -2418,9 +2418,9 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   const bool in_order = !out.closed || (chains.size() == 1 && chains[0].closed);
   std::vector<Segment>& segments = out.spline.segments;
   segments.clear();
-  if (!elastic && in_order) {
-    detail::reserve_huge(segments, segs);
-  } else if (!elastic) {
+  if (elastic || in_order) {
+    detail::reserve_huge(segments, segs);  // (an elastic span has one piece or more)
+  } else {
     detail::resize_huge(segments, segs);
   }
   detail::resize_huge(out.tangents, n);
