@@ -2,6 +2,8 @@
 // double atan2l.
 #include "detail/angles.hpp"
 
+#include "detail/numbers.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -4,8 +4,6 @@
 
 #include <cmath>
 
-#include "detail/numbers.hpp"
-
 namespace fairspline::detail {
 
 /// The cosine and sine of half an angle ψ in (−π, π].
@@ -29,8 +27,7 @@ inline HalfAngle half_angle(double c, double sn) {
 /// atan2(y, x) for x >= 0 (directions in the right half-plane, e.g. the half angle of a turn,
 /// whose cosine is not negative), within 1.6 ulp of the exact angle (tests/angles_test.cpp
 /// measures it against long double atan2l). glibc's atan2 is correctly rounded in nearly all
-/// cases and costs ~25 ns; this costs about a third of that and has no branches the compiler
-/// cannot turn into selects.
+/// cases and costs ~25 ns; this costs about a third of that.
 ///
 /// With a = min(|y|, x), b = max(|y|, x): atan(a/b) in [0, π/4], with a/b above 0.66 reduced
 /// by atan(a/b) = π/4 + atan((a − b)/(a + b)) (one division either way), is

@@ -1,10 +1,10 @@
 #include "detail/huge_pages.hpp"
 
-#include "fairspline/fit.hpp"
-
 #include <array>
 #include <cstdint>
 #include <utility>
+
+#include "fairspline/fit.hpp"
 
 #if defined(__linux__)
 #include <sys/mman.h>

@@ -2426,10 +2426,9 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   detail::resize_huge(out.tangents, n);
   for (const Chain& ch : chains) {
     const std::size_t k = ch.node.size();
-    // Node t's incoming direction (that of its variable); its outgoing one is the tangent.
-    auto incoming = [&](std::size_t t) {
-      double sx, cx;
-      sincos_small(ch.x[t], sx, cx);
+    // Node t's incoming direction (that of its variable) from cos, sin of x_t; its outgoing
+    // one is the tangent.
+    auto incoming = [&](std::size_t t, double cx, double sx) {
       return Vec2{ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
     };
     // Segment s's cubic from its nodes' unit directions: cos/sin of α, β against the chord.
@@ -2469,20 +2468,16 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     };
     // One pass: segment t − 1 once node t's direction is known (the closing one at the end).
     // The cosines and sines of a block of nodes at a time, by the evaluation's vectorized
-    // polynomial (the same values as incoming's sincos_small; scalar, it was a third of this
-    // pass).
-    const Vec2 u0 = incoming(0);
-    Vec2 prev_out;
+    // polynomial (the same values as sincos_small; scalar, it was a third of this pass).
+    Vec2 u0, prev_out;
     double cs[2 * kEvalBlock];
     for (std::size_t first = 0; first < k; first += kEvalBlock) {
       const std::size_t count = std::min(kEvalBlock, k - first);
       sincos_block(ch.x, first, count, cs);
       for (std::size_t q = 0; q < count; ++q) {
         const std::size_t t = first + q;
-        const double cx = cs[2 * q], sx = cs[2 * q + 1];
-        const Vec2 ut =
-            t == 0 ? u0
-                   : Vec2{ch.ref[t].x * cx - ch.ref[t].y * sx, ch.ref[t].y * cx + ch.ref[t].x * sx};
+        const Vec2 ut = incoming(t, cs[2 * q], cs[2 * q + 1]);
+        if (t == 0) u0 = ut;
         const Vec2 uout = ch.corner[t] == 0.0 ? ut : rotate(ut, ch.corner[t]);
         // The outgoing direction is the point's tangent (a corner keeps its outgoing one).
         if (ch.closed || t + 1 < k || (!out.closed && ch.node[t] == n - 1)) {
