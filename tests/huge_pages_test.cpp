@@ -6,6 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdint>
 #include <thread>
 #include <vector>
 
@@ -22,10 +27,10 @@ TEST(BlockCache, ALargeBlockGivenBackIsTakenAgain) {
     std::byte* const p = a.data.get();
     give_block(std::move(a));
     // Any request it covers gets it, with its full size; a larger one gets a new block.
-    Block b = take_block(5 * kMiB);
+    Block b = take_block(6 * kMiB);
     EXPECT_EQ(b.data.get(), p);
     EXPECT_EQ(b.size, 8 * kMiB);
-    Block c = take_block(9 * kMiB);
+    Block c = take_block(10 * kMiB);
     EXPECT_NE(c.data.get(), p);
     // Given back, the smallest that covers a request is taken.
     give_block(std::move(c));
@@ -45,7 +50,7 @@ TEST(BlockCache, SmallAndHugeBlocksAreNotKept) {
     EXPECT_EQ(take_block(kKeptBlockMinBytes).size, kKeptBlockMinBytes + 64);
     // Above the 256 MiB limit: freed too.
     give_block(take_block(300 * kMiB));
-    EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);
+    EXPECT_EQ(take_block(6 * kMiB).size, 6 * kMiB);
   }).join();
 }
 
@@ -53,38 +58,80 @@ TEST(BlockCache, KeepFitMemoryFalseFreesTheKeptBlocksAndKeepsNoMore) {
   std::thread([] {
     give_block(take_block(8 * kMiB));
     keep_fit_memory(false);  // the 8 MiB block is freed now
-    EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);
+    EXPECT_EQ(take_block(6 * kMiB).size, 6 * kMiB);
     give_block(take_block(8 * kMiB));  // and this one when given back
-    EXPECT_EQ(take_block(5 * kMiB).size, 5 * kMiB);
+    EXPECT_EQ(take_block(6 * kMiB).size, 6 * kMiB);
     keep_fit_memory(true);
     give_block(take_block(8 * kMiB));
-    EXPECT_EQ(take_block(5 * kMiB).size, 8 * kMiB);
+    EXPECT_EQ(take_block(6 * kMiB).size, 8 * kMiB);
   }).join();
 }
 
 TEST(BlockCache, AKeptBlockServesUpToTwiceTheRequest) {
   std::thread([] {
     give_block(take_block(16 * kMiB));
-    EXPECT_EQ(take_block(7 * kMiB).size, 7 * kMiB);  // 16 MiB is more than twice 7: a new one
+    EXPECT_EQ(take_block(6 * kMiB).size, 6 * kMiB);  // 16 MiB is more than twice 6: a new one
     EXPECT_EQ(take_block(8 * kMiB).size, 16 * kMiB);
   }).join();
 }
 
 TEST(BlockCache, AtMostSixteenAndTheLargestStay) {
   std::thread([] {
+    // (Blocks under kAlignedBlockMinBytes keep the size asked for.)
+    constexpr std::size_t kKiB = 1024;
     std::vector<Block> blocks;
-    for (std::size_t k = 0; k < 17; ++k) blocks.push_back(take_block((4 + k) * kMiB));
+    for (std::size_t k = 0; k < 17; ++k) blocks.push_back(take_block((64 + 8 * k) * kKiB));
     for (Block& b : blocks) give_block(std::move(b));
-    // 4 MiB was dropped for 20 MiB: a 4 MiB request now gets the 5 MiB block, and so on.
-    for (std::size_t k = 1; k < 5; ++k) EXPECT_EQ(take_block(4 * kMiB).size, (4 + k) * kMiB);
-    EXPECT_EQ(take_block(19 * kMiB).size, 19 * kMiB);
-    EXPECT_EQ(take_block(19 * kMiB).size, 20 * kMiB);
-    EXPECT_EQ(take_block(20 * kMiB).size, 20 * kMiB);  // a new one
-    // Over 256 MiB in all, the smallest go first.
-    give_block(take_block(250 * kMiB));
-    EXPECT_EQ(take_block(9 * kMiB).size, 9 * kMiB);  // 9 … 18 MiB were given up for it
-    EXPECT_EQ(take_block(200 * kMiB).size, 250 * kMiB);
+    // 64 KiB was dropped for 192 KiB: a 64 KiB request now gets the 72 KiB block, and so on.
+    for (std::size_t k = 1; k < 5; ++k) EXPECT_EQ(take_block(64 * kKiB).size, (64 + 8 * k) * kKiB);
+    EXPECT_EQ(take_block(184 * kKiB).size, 184 * kKiB);
+    EXPECT_EQ(take_block(184 * kKiB).size, 192 * kKiB);
+    EXPECT_EQ(take_block(192 * kKiB).size, 192 * kKiB);  // a new one
   }).join();
+}
+
+TEST(BlockCache, Over256MiBInAllTheSmallestGoFirst) {
+  std::thread([] {
+    for (const std::size_t mib : {40, 60, 100, 120}) give_block(take_block(mib * kMiB));
+    // 320 MiB: 40 and then 60 MiB were given up.
+    EXPECT_EQ(take_block(30 * kMiB).size, 30 * kMiB);  // a new one
+    EXPECT_EQ(take_block(60 * kMiB).size, 100 * kMiB);
+    EXPECT_EQ(take_block(100 * kMiB).size, 120 * kMiB);
+  }).join();
+}
+
+TEST(BlockCache, ALargeBlockIsWholeHugePages) {
+  std::thread([] {
+    // From kAlignedBlockMinBytes: on a huge page boundary, rounded up to whole ones.
+    const Block a = take_block(kAlignedBlockMinBytes + 1);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.data.get()) % kHugePageBytes, 0u);
+    EXPECT_EQ(a.size, kHugePageBytes);
+    const Block b = take_block(5 * kMiB);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data.get()) % kHugePageBytes, 0u);
+    EXPECT_EQ(b.size, 6 * kMiB);
+    // Smaller ones: the size asked for.
+    EXPECT_EQ(take_block(kAlignedBlockMinBytes - 20).size, kAlignedBlockMinBytes - 20);
+  }).join();
+}
+
+TEST(Prefault, MapsInEveryPageOfTheRange) {
+  const std::size_t bytes = 4 * kMiB, page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  void* const p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(p, MAP_FAILED);
+  const auto resident = [&] {
+    std::vector<unsigned char> in(bytes / page);
+    EXPECT_EQ(mincore(p, bytes, in.data()), 0);
+    return static_cast<std::size_t>(
+        std::count_if(in.begin(), in.end(), [](unsigned char c) { return (c & 1) != 0; }));
+  };
+  EXPECT_EQ(resident(), 0u);
+  prefault(p, bytes);
+  if (resident() == 0 && madvise(p, page, MADV_POPULATE_WRITE) != 0) {
+    munmap(p, bytes);
+    GTEST_SKIP() << "this kernel has no MADV_POPULATE_WRITE (Linux 5.14)";
+  }
+  EXPECT_EQ(resident(), bytes / page);
+  munmap(p, bytes);
 }
 
 }  // namespace

@@ -36,6 +36,7 @@
 #include "fairspline/fit.hpp"
 #include "fairspline/io/csv.hpp"
 #include "fairspline/io/curve_ensemble.hpp"
+#include "fairspline/io/file.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/io/paths.hpp"
 #include "fairspline/io/svg.hpp"
@@ -80,36 +81,12 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string read_all(const std::string& path) {
-  std::ostringstream ss;
-  if (path.empty() || path == "-") {
-    ss << std::cin.rdbuf();
-    if (std::cin.bad()) throw Error(ErrorCode::kIoError, "error while reading standard input");
-    return ss.str();
-  }
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    throw Error(ErrorCode::kIoError, "cannot read '" + path + "': it is a directory");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw Error(ErrorCode::kIoError, "cannot read '" + path + "': no such file or no access");
-  // A regular file straight into its string (no stream buffer and copy of a large input).
-  if (const auto size = fs::file_size(path, ec); !ec && fs::is_regular_file(path, ec)) {
-    std::string text(static_cast<std::size_t>(size), '\0');
-    in.read(text.data(), static_cast<std::streamsize>(size));
-    text.resize(static_cast<std::size_t>(in.gcount()));
-    if (in.bad()) throw Error(ErrorCode::kIoError, "error while reading '" + path + "'");
-    if (in.peek() == std::char_traits<char>::eof()) return text;  // (else it grew: read on)
-    ss << text << in.rdbuf();
-    return ss.str();
-  }
-  ss << in.rdbuf();
-  if (in.bad()) throw Error(ErrorCode::kIoError, "error while reading '" + path + "'");
-  return ss.str();
+fairspline::io::FileText read_all(const std::string& path) {
+  if (path.empty() || path == "-") return fairspline::io::read_stream(stdin, "standard input");
+  return fairspline::io::read_file(path);
 }
 
-bool looks_like_json(const std::string& path, const std::string& text) {
+bool looks_like_json(const std::string& path, std::string_view text) {
   const std::string ext = lower(fs::path(path).extension().string());
   if (ext == ".json") return true;
   if (ext == ".csv" || ext == ".txt" || ext == ".tsv" || ext == ".dat") return false;
@@ -220,9 +197,10 @@ int run_fit(const FitArgs& a) {
   // 1. Input (errors here are malformed/unreadable input: exit 2).
   fairspline::io::ParsedInput parsed;
   try {
-    const std::string text = read_all(a.input);
+    const fairspline::io::FileText file = read_all(a.input);
+    const std::string_view text = file.view();
     const bool ce = a.input_format == "ce" ||
-                    (a.input_format == "auto" && text.rfind("#Curve Ensemble Text File", 0) == 0);
+                    (a.input_format == "auto" && text.starts_with("#Curve Ensemble Text File"));
     if (ce) {
       parsed.input = fairspline::io::parse_curve_ensemble(text);
     } else if (a.input_format == "json" ||

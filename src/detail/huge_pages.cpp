@@ -1,7 +1,10 @@
 #include "detail/huge_pages.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <utility>
 
 #include "fairspline/fit.hpp"
@@ -14,12 +17,31 @@ namespace fairspline::detail {
 
 void advise_huge_pages(void* p, std::size_t bytes) noexcept {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
-  if (p == nullptr || bytes < 2 * kHuge) return;
+  constexpr std::uintptr_t kHuge = kHugePageBytes;
+  if (p == nullptr || bytes < kHuge) return;
   const auto a = reinterpret_cast<std::uintptr_t>(p);
   const std::uintptr_t lo = (a + kHuge - 1) & ~(kHuge - 1), hi = (a + bytes) & ~(kHuge - 1);
   // (A failure, e.g. EINVAL where THP is compiled out, leaves ordinary pages: nothing to do.)
   if (hi > lo) static_cast<void>(madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE));
+#else
+  static_cast<void>(p);
+  static_cast<void>(bytes);
+#endif
+}
+
+void FreeBlock::operator()(std::byte* p) const noexcept {
+  std::free(p);
+}
+
+void prefault(void* p, std::size_t bytes) noexcept {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+  constexpr std::uintptr_t kPage = 4096;
+  if (p == nullptr || bytes < kAlignedBlockMinBytes) return;
+  const auto a = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t lo = (a + kPage - 1) & ~(kPage - 1), hi = (a + bytes) & ~(kPage - 1);
+  // (EINVAL before Linux 5.14: the pages fault in when touched, as without the call.)
+  if (hi > lo)
+    static_cast<void>(madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_POPULATE_WRITE));
 #else
   static_cast<void>(p);
   static_cast<void>(bytes);
@@ -45,8 +67,15 @@ Block take_block(std::size_t bytes) {
     }
   }
   if (best) return std::exchange(*best, Block{});
-  Block b{std::make_unique_for_overwrite<std::byte[]>(bytes), bytes};
-  advise_huge_pages(b.data.get(), bytes);
+  // (aligned_alloc wants a multiple of the alignment; free takes either kind.)
+  const bool whole_pages = bytes >= kAlignedBlockMinBytes;
+  const std::size_t size =
+      whole_pages ? (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes : bytes;
+  Block b{std::unique_ptr<std::byte[], FreeBlock>(static_cast<std::byte*>(
+              whole_pages ? std::aligned_alloc(kHugePageBytes, size) : std::malloc(size))),
+          size};
+  if (!b.data && size > 0) throw std::bad_alloc();
+  advise_huge_pages(b.data.get(), size);
   return b;
 }
 

@@ -1,11 +1,10 @@
 #include "fairspline/io/csv.hpp"
+#include "fairspline/io/file.hpp"
 
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <system_error>
 
 #include "fairspline/error.hpp"
@@ -223,14 +222,7 @@ std::vector<Point> parse_csv_points(std::string_view text) {
 }
 
 std::vector<Point> read_csv_points(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw Error(ErrorCode::kIoError, "cannot read '" + path.string() + "'");
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error(ErrorCode::kIoError, "error while reading '" + path.string() + "'");
-  return parse_csv_points(ss.str());
+  return parse_csv_points(read_file(path).view());
 }
 
 std::string write_csv(const FitResult& result) {

@@ -1,11 +1,10 @@
 #include "fairspline/io/curve_ensemble.hpp"
+#include "fairspline/io/file.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 #include <vector>
 
 #include "detail/nodes.hpp"
@@ -168,12 +167,7 @@ FitInput parse_curve_ensemble(std::string_view text) {
 }
 
 FitInput read_curve_ensemble(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw Error(ErrorCode::kIoError, "cannot read '" + path.string() + "'");
-  std::ostringstream ss;
-  ss << file.rdbuf();
-  if (file.bad()) throw Error(ErrorCode::kIoError, "error while reading '" + path.string() + "'");
-  return parse_curve_ensemble(ss.str());
+  return parse_curve_ensemble(read_file(path).view());
 }
 
 std::string write_curve_ensemble(const FitResult& result) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "detail/choices.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/json_input.hpp"
 #include "fairspline/io/csv.hpp"
 
@@ -432,6 +433,11 @@ class FastRequestReader {
     if (!eat('[')) return false;
     skip_space();
     if (eat(']')) return true;
+    // One allocation, advised for huge pages: growing by doubling, then shrinking, touched
+    // ~3 arrays of fresh pages for 1 of points (at 2·10^5 points, 2400 page faults of ~14 µs
+    // on the measuring VM). Each point opens one '[' (an upper bound: later arrays count too).
+    detail::reserve_huge(points,
+                         static_cast<std::size_t>(std::count(t_.begin() + i_, t_.end(), '[')));
     for (;;) {
       skip_space();
       Vec2 p;
@@ -449,7 +455,7 @@ class FastRequestReader {
       if (eat(']')) break;
       if (!eat(',')) return false;
     }
-    points.shrink_to_fit();
+    if (points.capacity() - points.size() > points.size() / 8) points.shrink_to_fit();
     return true;
   }
 
