@@ -10,15 +10,21 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "detail/number_format.hpp"
 #include "fairspline/io/json.hpp"
@@ -109,6 +115,81 @@ class TextSink {
     before_value();
     write_string(s);
   }
+
+  /// Elements 0 … n-1 of the array just opened, element i by emit(sink, i). A long array of a
+  /// compact text is written in chunks on up to four cores and joined in order, the same text:
+  /// formatting numbers is most of the writing of a long curve (2·10^5 points: 60 ms, a quarter
+  /// of `fairspline fit`'s process).
+  template <class Emit>
+  void elements(std::size_t n, const Emit& emit) {
+    const std::size_t chunks = (n + kChunkItems - 1) / kChunkItems;
+    const std::size_t threads =
+        indent_ < 0 && n >= kParallelItems
+            ? std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 4})
+            : 1;
+    if (threads < 2) {
+      for (std::size_t i = 0; i < n; ++i) emit(*this, i);
+      return;
+    }
+    // Chunk k is this thread's when k % threads == 0, written in place; the others' go through a
+    // ring of 2·threads texts: a worker waits for its slot to be written out before reusing it.
+    struct Slot {
+      std::string text;
+      std::exception_ptr error;
+      std::atomic<std::size_t> ready{0};  // the chunk's index + 1 once its text is in
+    };
+    const std::size_t ring = 2 * threads;
+    const std::unique_ptr<Slot[]> slots(new Slot[ring]);
+    std::atomic<std::size_t> written{0};
+    std::atomic<bool> stop{false};
+    const auto range = [&](std::size_t k) {
+      return std::pair{k * kChunkItems, std::min(n, (k + 1) * kChunkItems)};
+    };
+    const auto work = [&](std::size_t first) {
+      for (std::size_t k = first; k < chunks; k += threads) {
+        for (std::size_t w = written.load(); w + ring < k + 1; w = written.load()) {
+          if (stop.load()) return;
+          written.wait(w);
+        }
+        Slot& slot = slots[k % ring];
+        try {
+          slot.text.clear();
+          TextSink sink(slot.text, -1);
+          const auto [lo, hi] = range(k);
+          for (std::size_t i = lo; i < hi; ++i) emit(sink, i);
+        } catch (...) {
+          slot.error = std::current_exception();
+        }
+        slot.ready.store(k + 1);
+        slot.ready.notify_one();
+      }
+    };
+    std::vector<std::jthread> pool;
+    // (Declared after the pool: runs first on the way out, so that no worker waits forever.)
+    const auto release = [&](void*) {
+      stop.store(true);
+      written.fetch_add(ring);
+      written.notify_all();
+    };
+    const std::unique_ptr<void, decltype(release)> guard(this, release);
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
+    for (std::size_t k = 0; k < chunks; ++k) {
+      if (k % threads == 0) {
+        const auto [lo, hi] = range(k);
+        for (std::size_t i = lo; i < hi; ++i) emit(*this, i);
+      } else {
+        Slot& slot = slots[k % ring];
+        for (std::size_t r = slot.ready.load(); r != k + 1; r = slot.ready.load()) {
+          slot.ready.wait(r);
+        }
+        if (slot.error) std::rethrow_exception(slot.error);
+        separate();
+        raw(slot.text);
+      }
+      written.store(k + 1);
+      written.notify_all();
+    }
+  }
   /// A value this writer does not spell out (binary, discarded): as dump() writes it.
   void other(const json& v) {
     before_value();
@@ -159,6 +240,17 @@ class TextSink {
   void put(std::string_view s) {
     std::memcpy(room(s.size()), s.data(), s.size());
     p_ += s.size();
+  }
+  /// Text of any length (a chunk of elements): straight to the stream when there is one.
+  void raw(std::string_view s) {
+    if (!stream_ || s.size() < kFlushBytes / 4) {
+      put(s);
+      if (stream_ && used() >= kFlushBytes) flush();
+      return;
+    }
+    flush();
+    stream_->write(s.data(), static_cast<std::streamsize>(s.size()));
+    if (!*stream_) throw Error(ErrorCode::kIoError, "error while writing the JSON text");
   }
 
   template <class Int>
@@ -250,6 +342,9 @@ class TextSink {
   }
 
   static constexpr std::size_t kFlushBytes = 1 << 20;
+  /// Arrays of elements() from this length on are written on several cores, in chunks of
+  /// kChunkItems (a thread costs ~50 µs to start; 4096 numbers take ~100 µs to format).
+  static constexpr std::size_t kParallelItems = 1 << 14, kChunkItems = 4096;
 
   /// The text of recently written numbers by their bits, per thread (the text is a function of
   /// the bits, so entries never go stale). A fit writes most numbers twice or more: a segment's
@@ -315,6 +410,10 @@ class SaxSink {
     h_.string(text_);
   }
   void other(const json&) { h_.null(); }
+  template <class Emit>
+  void elements(std::size_t n, const Emit& emit) {
+    for (std::size_t i = 0; i < n; ++i) emit(*this, i);
+  }
 
  private:
   static constexpr std::size_t kUnknownSize = static_cast<std::size_t>(-1);
@@ -572,7 +671,7 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
   s.boolean(r.closed);
   m.key("knots");
   s.begin_array();
-  for (const double t : r.knots) s.number(t);
+  s.elements(r.knots.size(), [&](auto& to, std::size_t i) { to.number(r.knots[i]); });
   s.end_array();
   m.key("method");
   s.string(r.method);
@@ -582,7 +681,7 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
   emit_object_or_empty(s, r.options);
   m.key("points");
   s.begin_array();
-  for (const Point& p : r.points) emit_point(s, p);
+  s.elements(r.points.size(), [&](auto& to, std::size_t i) { emit_point(to, r.points[i]); });
   s.end_array();
   if (r.report) {
     m.key("report");
@@ -592,24 +691,25 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
   emit_value(s, input_to_json(r.input, r.accuracy));
   m.key("segments");
   s.begin_array();
-  for (const Segment& g : r.spline.segments) {
-    s.begin_object();
-    s.key("bezier");
-    s.begin_array();
-    for (const Point& p : g.bezier.p) emit_point(s, p);
-    s.end_array();
-    s.key("span");
-    s.unsigned_integer(g.span);
-    s.key("t0");
-    s.number(g.t0);
-    s.key("t1");
-    s.number(g.t1);
-    s.end_object();
-  }
+  s.elements(r.spline.segments.size(), [&](auto& to, std::size_t i) {
+    const Segment& g = r.spline.segments[i];
+    to.begin_object();
+    to.key("bezier");
+    to.begin_array();
+    for (const Point& p : g.bezier.p) emit_point(to, p);
+    to.end_array();
+    to.key("span");
+    to.unsigned_integer(g.span);
+    to.key("t0");
+    to.number(g.t0);
+    to.key("t1");
+    to.number(g.t1);
+    to.end_object();
+  });
   s.end_array();
   m.key("tangents");
   s.begin_array();
-  for (const Vec2& t : r.tangents) emit_point(s, t);
+  s.elements(r.tangents.size(), [&](auto& to, std::size_t i) { emit_point(to, r.tangents[i]); });
   s.end_array();
   m.finish();
   s.end_object();

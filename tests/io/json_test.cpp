@@ -675,6 +675,34 @@ TEST(JsonWriter, RepeatedNumbersAsDump) {
   }
 }
 
+// Long arrays of a compact text are written in chunks on several cores (TextSink::elements): the
+// same bytes as the indented text, which is written in one pass, parsed and dumped compact;
+// lengths around the chunk size and the threshold, and odd numbers of chunks.
+TEST(JsonWriter, LongArraysOnSeveralCoresAsTheOnePassText) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1e3, 1e3);
+  for (const std::size_t n : {16383, 16384, 16385, 4096 * 7 + 1, 70001}) {
+    FitResult r;
+    r.method = "test";
+    for (std::size_t i = 0; i < n; ++i) {
+      r.points.push_back({u(rng), u(rng)});
+      r.tangents.push_back({u(rng), u(rng)});
+      r.knots.push_back(static_cast<double>(i) + u(rng) * 1e-4);
+      Segment g;
+      for (Point& p : g.bezier.p) p = {u(rng), u(rng)};
+      g.span = i;
+      g.t0 = u(rng);
+      g.t1 = u(rng);
+      r.spline.segments.push_back(g);
+    }
+    const std::string text = write_json(r);
+    EXPECT_TRUE(json::parse(write_json(r, 2)).dump() == text) << n;
+    std::ostringstream os;
+    write_json(r, os);
+    EXPECT_TRUE(os.str() == text) << n;
+  }
+}
+
 TEST(JsonWriter, ExtraMembersGoInKeyOrder) {
   FitInput in;
   in.points = kExample;
@@ -771,6 +799,7 @@ TEST(JsonText, WrittenToAStreamAsItIsMade) {
     const std::string whole = write_json(r, indent);
     EXPECT_GT(whole.size(), std::size_t{3} << 20);
     EXPECT_TRUE(os.str() == whole) << indent;
+    EXPECT_TRUE(json::parse(whole).dump(indent) == whole) << indent;
   }
   std::ostringstream broken;
   broken.setstate(std::ios::badbit);
