@@ -82,6 +82,7 @@ SYMBOLS = [
     ("geometry_transformed", "decl", "geometry.hpp", r"^Spline transformed\("),
     ("svg_path_data", "decl", "io/paths.hpp", r"^std::string svg_path_data\("),
     ("write_geojson", "decl", "io/paths.hpp", r"^std::string write_geojson\(const FitResult"),
+    ("keep_fit_memory", "decl", "fit.hpp", r"^void keep_fit_memory\("),
     ("parse_curve_ensemble", "decl", "io/curve_ensemble.hpp", r"^FitInput parse_curve_ensemble\("),
     ("write_curve_ensemble", "decl", "io/curve_ensemble.hpp", r"^std::string write_curve_ensemble\("),
     ("svg_options", "decl", "io/svg.hpp", r"^struct SvgOptions\b"),

@@ -1549,6 +1549,14 @@ PYBIND11_MODULE(_core, m) {
            "fairspline.fit(**fairspline.read_curve_ensemble(path), method=...)."));
 
   m.def(
+      "keep_fit_memory", [](bool keep_blocks) { fairspline::keep_fit_memory(keep_blocks); },
+      py::arg("keep"),
+      keep(std::string(doc::keep_fit_memory) +
+           "\n\nPython: for the calling thread, where fit runs (fit_many's worker threads free "
+           "theirs when they end). keep_fit_memory(False) after a large fit gives its work "
+           "memory back to the system."));
+
+  m.def(
       "methods", [] { return to_python(fairspline::registry_schema()); },
       keep(std::string(doc::methods) +
            "\n\nPython: a list of dicts, one per method: " + doc::method_schema +

@@ -84,7 +84,8 @@ fit = _module_level(_core.fit)
 fit_many = _module_level(_core.fit_many)
 methods = _module_level(_core.methods)
 read_curve_ensemble = _module_level(_core.read_curve_ensemble)
+keep_fit_memory = _module_level(_core.keep_fit_memory)
 
 __all__ = ["Curve", "DEFAULT_METHOD", "Error", "MethodName", "Path", "PointKind", "ReportLevel",
-           "SideState", "fit", "fit_many", "methods", "plot",
+           "SideState", "fit", "fit_many", "keep_fit_memory", "methods", "plot",
            "read_curve_ensemble", "__version__"]

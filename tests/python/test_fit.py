@@ -2,6 +2,7 @@
 
 import json
 import math
+import os
 import pathlib
 import pickle
 
@@ -467,3 +468,30 @@ def test_curve_is_callable_comparable_and_shows_itself_in_jupyter():
         hash(curve)  # equal by value, and not immutable by contract
     svg = curve._repr_svg_()
     assert svg.lstrip().startswith("<?xml") and "<path" in svg
+
+
+def _resident_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+@pytest.mark.skipif(not pathlib.Path("/proc/self/statm").exists(), reason="needs /proc")
+def test_keep_fit_memory_false_gives_a_large_fits_work_memory_back():
+    # A thread keeps a fit's large work blocks for its next fit (~130 bytes a point for the
+    # default method); keep_fit_memory(False) frees them, and the resident memory shows it.
+    pts = random_walk(300_000, 5)
+    fairspline.keep_fit_memory(True)
+    try:
+        curve = fairspline.fit(pts, report="none")
+        assert len(curve.segments) == len(pts) - 1
+        before = _resident_bytes()
+        fairspline.keep_fit_memory(False)
+        after = _resident_bytes()
+        assert before - after > 20e6, (before, after)
+        # Kept no more: after a second fit there is nothing left to give back.
+        fairspline.fit(pts, report="none")
+        second = _resident_bytes()
+        fairspline.keep_fit_memory(False)
+        assert second - _resident_bytes() < 5e6
+    finally:
+        fairspline.keep_fit_memory(True)
