@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "detail/huge_pages.hpp"
 #include "detail/intersections.hpp"
 #include "detail/normalize.hpp"
 #include "detail/numbers.hpp"
@@ -237,7 +238,7 @@ void for_each_overlapping_pair(const std::vector<BBox>& box, const std::vector<s
   const double m = static_cast<double>(live.size());
   const double wx = all.max.x - all.min.x, wy = all.max.y - all.min.y;
   std::vector<double> sizes;
-  sizes.reserve(live.size());
+  detail::reserve_to_fill(sizes, live.size());
   for (std::size_t k : live)
     sizes.push_back(std::max(box[k].max.x - box[k].min.x, box[k].max.y - box[k].min.y));
   const auto mid = sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2);
@@ -281,14 +282,16 @@ void for_each_overlapping_pair(const std::vector<BBox>& box, const std::vector<s
     return;
   }
   // Pieces by cell (counting sort; end[c] ends cell c's run, and is its start after the fill).
-  std::vector<Index> end(nx * ny, 0);
+  std::vector<Index> end;
+  detail::assign_huge(end, nx * ny, Index{0});
   auto for_cells = [&](std::size_t k, auto&& g) {
     for (std::size_t r = row(box[k].min.y), r1 = row(box[k].max.y); r <= r1; ++r)
       for (std::size_t c = col(box[k].min.x), c1 = col(box[k].max.x); c <= c1; ++c) g(r * nx + c);
   };
   for (std::size_t k : live) for_cells(k, [&](std::size_t cell) { ++end[cell]; });
   for (std::size_t c = 1; c < nx * ny; ++c) end[c] += end[c - 1];
-  std::vector<Index> items(end.back());
+  std::vector<Index> items;
+  detail::resize_huge(items, end.back());
   for (std::size_t k : live)
     for_cells(k, [&](std::size_t cell) { items[--end[cell]] = static_cast<Index>(k); });
   for (std::size_t cell = 0; cell < nx * ny; ++cell) {
@@ -356,9 +359,12 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
   const int max_depth = std::clamp(options.intersection_max_depth, 1, 60);
 
   // Pieces of zero extent are skipped; the pieces around them still share their joint.
-  std::vector<double> scale(n);
-  std::vector<std::size_t> live_before(n + 1, 0);  // number of live pieces before index k
+  std::vector<double> scale;
+  std::vector<std::size_t> live_before;  // number of live pieces before index k
   std::vector<std::size_t> live;
+  detail::resize_huge(scale, n);
+  detail::assign_huge(live_before, n + 1, std::size_t{0});
+  detail::reserve_to_fill(live, n);
   for (std::size_t k = 0; k < n; ++k) {
     if (!finite_bezier(s.segments[k].bezier))
       throw Error(ErrorCode::kNonFinite,
@@ -385,7 +391,8 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
   }
 
   // 2. Crossings between pieces whose tight boxes overlap.
-  std::vector<BBox> box(n);
+  std::vector<BBox> box;
+  detail::resize_huge(box, n);
   BBox all{{kUnbounded, kUnbounded}, {-kUnbounded, -kUnbounded}};
   for (std::size_t k : live) {
     BBox b = s.segments[k].bezier.bbox();
@@ -400,6 +407,8 @@ std::vector<Intersection> find_self_intersections(const Spline& s,
   // halves with each shared arc found in the chunk), on every core: the same bits on any
   // number of threads.
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  // (Mostly each piece with its neighbours and a crossing or two: rarely more than 4 a piece.)
+  detail::reserve_huge(pairs, 4 * live.size());
   for_each_overlapping_pair(box, live, all, [&](std::size_t i, std::size_t j) {
     pairs.emplace_back(std::min(i, j), std::max(i, j));
   });
@@ -547,7 +556,7 @@ Report report_of(const Spline& s, const Spline& energy_source, std::span<const P
   r.length = 0.0;
   if (full) {
     r.curvature_variation_energy = 0.0;
-    r.segments.resize(n);
+    detail::resize_huge(r.segments, n);
   }
   if (n == 0) return r;
 

@@ -90,6 +90,16 @@ void reserve_huge(std::vector<T, A>& v, std::size_t n) {
   }
 }
 
+/// reserve_huge for n elements about to be appended one by one: the new storage is mapped in
+/// as well (push_back would take its pages one fault at a time).
+template <typename T, typename A>
+void reserve_to_fill(std::vector<T, A>& v, std::size_t n) {
+  if (n > v.capacity()) {
+    reserve_huge(v, n);
+    prefault(v.data() + v.size(), (n - v.size()) * sizeof(T));
+  }
+}
+
 /// v.resize(n), new storage advised and mapped in before anything touches it (reserve does not).
 template <typename T, typename A>
 void resize_huge(std::vector<T, A>& v, std::size_t n) {

@@ -133,13 +133,17 @@ class TextSink {
     }
     // Chunk k is this thread's when k % threads == 0, written in place; the others' go through a
     // ring of 2·threads texts: a worker waits for its slot to be written out before reusing it.
-    struct Slot {
-      std::string text;
-      std::exception_ptr error;
-      std::atomic<std::size_t> ready{0};  // the chunk's index + 1 once its text is in
-    };
     const std::size_t ring = 2 * threads;
-    const std::unique_ptr<Slot[]> slots(new Slot[ring]);
+    // (Kept for the sink's next long array: their texts' memory is mapped in already.)
+    if (ring_size_ < ring) {
+      ring_ = std::make_unique<Slot[]>(ring);
+      ring_size_ = ring;
+    }
+    Slot* const slots = ring_.get();
+    for (std::size_t k = 0; k < ring; ++k) {
+      slots[k].error = nullptr;
+      slots[k].ready.store(0);
+    }
     std::atomic<std::size_t> written{0};
     std::atomic<bool> stop{false};
     const auto range = [&](std::size_t k) {
@@ -241,16 +245,18 @@ class TextSink {
     std::memcpy(room(s.size()), s.data(), s.size());
     p_ += s.size();
   }
-  /// Text of any length (a chunk of elements): straight to the stream when there is one.
+  /// Text of any length (a chunk of elements): never growing a stream's buffer; a long one
+  /// straight to the stream.
   void raw(std::string_view s) {
-    if (!stream_ || s.size() < kFlushBytes / 4) {
-      put(s);
-      if (stream_ && used() >= kFlushBytes) flush();
-      return;
+    if (stream_ && used() + s.size() > kFlushBytes) {
+      flush();
+      if (s.size() >= kFlushBytes / 4) {
+        stream_->write(s.data(), static_cast<std::streamsize>(s.size()));
+        if (!*stream_) throw Error(ErrorCode::kIoError, "error while writing the JSON text");
+        return;
+      }
     }
-    flush();
-    stream_->write(s.data(), static_cast<std::streamsize>(s.size()));
-    if (!*stream_) throw Error(ErrorCode::kIoError, "error while writing the JSON text");
+    put(s);
   }
 
   template <class Int>
@@ -364,8 +370,17 @@ class TextSink {
     return memo;
   }
 
+  /// A chunk of elements() formatted by another thread.
+  struct Slot {
+    std::string text;
+    std::exception_ptr error;
+    std::atomic<std::size_t> ready{0};  // the chunk's index + 1 once its text is in
+  };
+
   std::string& out_;
   NumberMemo& memo_ = thread_memo();
+  std::unique_ptr<Slot[]> ring_;
+  std::size_t ring_size_ = 0;
   const int indent_;
   std::ostream* stream_ = nullptr;
   char* p_ = nullptr;    ///< the end of the text in out_
