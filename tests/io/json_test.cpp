@@ -681,7 +681,7 @@ TEST(JsonWriter, RepeatedNumbersAsDump) {
 TEST(JsonWriter, LongArraysOnSeveralCoresAsTheOnePassText) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1e3, 1e3);
-  for (const std::size_t n : {16383, 16384, 16385, 4096 * 7 + 1, 70001}) {
+  for (const std::size_t n : {16383, 16384, 16385, 1024 * 17 + 1, 70001}) {
     FitResult r;
     r.method = "test";
     for (std::size_t i = 0; i < n; ++i) {
