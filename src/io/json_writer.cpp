@@ -520,20 +520,21 @@ void emit_report(Sink& s, const Report& r) {
   if (full) {
     s.key("intersections");
     s.begin_array();
-    for (const Intersection& x : r.intersections) {
-      s.begin_object();
-      s.key("point");
-      emit_point(s, x.point);
-      s.key("segment_a");
-      s.unsigned_integer(x.segment_a);
-      s.key("segment_b");
-      s.unsigned_integer(x.segment_b);
-      s.key("u_a");
-      s.number(x.u_a);
-      s.key("u_b");
-      s.number(x.u_b);
-      s.end_object();
-    }
+    s.elements(r.intersections.size(), [&](auto& to, std::size_t i) {
+      const Intersection& x = r.intersections[i];
+      to.begin_object();
+      to.key("point");
+      emit_point(to, x.point);
+      to.key("segment_a");
+      to.unsigned_integer(x.segment_a);
+      to.key("segment_b");
+      to.unsigned_integer(x.segment_b);
+      to.key("u_a");
+      to.number(x.u_a);
+      to.key("u_b");
+      to.number(x.u_b);
+      to.end_object();
+    });
     s.end_array();
   }
   s.key("length");
@@ -553,28 +554,29 @@ void emit_report(Sink& s, const Report& r) {
   if (full) {
     s.key("segment_reports");
     s.begin_array();
-    for (const SegmentReport& g : r.segments) {
-      s.begin_object();
-      s.key("bending_energy");
-      s.number(g.bending_energy);
-      s.key("curvature_variation_energy");
-      s.number(g.curvature_variation_energy);
-      s.key("has_cusp");
-      s.boolean(g.has_cusp);
-      s.key("has_fold");
-      s.boolean(g.has_fold);
-      s.key("has_loop");
-      s.boolean(g.has_loop);
-      s.key("length");
-      s.number(g.length);
-      s.key("linearized_energy");
-      s.number(g.linearized_energy);
-      s.key("min_relative_speed");
-      s.number(g.min_relative_speed);
-      s.key("regular");
-      s.boolean(g.regular);
-      s.end_object();
-    }
+    s.elements(r.segments.size(), [&](auto& to, std::size_t i) {
+      const SegmentReport& g = r.segments[i];
+      to.begin_object();
+      to.key("bending_energy");
+      to.number(g.bending_energy);
+      to.key("curvature_variation_energy");
+      to.number(g.curvature_variation_energy);
+      to.key("has_cusp");
+      to.boolean(g.has_cusp);
+      to.key("has_fold");
+      to.boolean(g.has_fold);
+      to.key("has_loop");
+      to.boolean(g.has_loop);
+      to.key("length");
+      to.number(g.length);
+      to.key("linearized_energy");
+      to.number(g.linearized_energy);
+      to.key("min_relative_speed");
+      to.number(g.min_relative_speed);
+      to.key("regular");
+      to.boolean(g.regular);
+      to.end_object();
+    });
     s.end_array();
   }
   s.end_object();
