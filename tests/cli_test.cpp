@@ -572,6 +572,9 @@ TEST_F(Cli, CurveEnsembleFilesInAndOut) {
 // fit had raised it to 84 MB (418 bytes a point); the bound here, 350, leaves room for the huge
 // pages a kernel grants or not.
 TEST_F(Cli, AFitProcessPeaksBelow350BytesAPoint) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer's shadow memory and redzones triple the resident memory";
+#endif
   constexpr int kPoints = 200000;
   std::mt19937_64 rng(22);
   std::uniform_real_distribution<double> turn(-2.0 * std::numbers::pi / 3.0,
