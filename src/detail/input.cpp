@@ -124,7 +124,8 @@ bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double a
       bad |= non_finite_bits(p0) | non_finite_bits(p1);
       dst[i] = p0;
       dst[i + 1] = p1;
-      suspect |= maybe_coincident(p0, p1) | maybe_coincident(p1, p2);
+      suspect |= maybe_coincident(p0, p1);
+      suspect |= maybe_coincident(p1, p2);
       double h0, h1;
       if (!span_length_pair<K>(p0, p1, p2, h0, h1)) [[unlikely]] {
         h0 = span_length<K>(p1 - p0, alpha);

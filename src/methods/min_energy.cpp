@@ -357,22 +357,14 @@ inline void sincos_poly(double x, double& sn, double& cn) {
   cn = pc;
 }
 
-inline void sincos_small(double x, double& sn, double& cn) {
-  if (!(std::abs(x) <= 1.6)) {
-    ::sincos(x, &sn, &cn);
-    return;
-  }
-  sincos_poly(x, sn, cn);
-}
-
 /// Segments per block of an evaluation: the cos and sin of a block's nodes live on the stack
 /// (an array of 2k of them was 16 bytes a node and a pass over memory per evaluation).
 constexpr std::size_t kEvalBlock = 256;
 
 /// cos and sin of x at the chain nodes first, first + 1, … (count of them, cyclic in k) into
 /// cs[2q], cs[2q+1]: the polynomial over all entries in a branch-free loop (the compiler
-/// vectorizes it; the branch of sincos_small kept it scalar, 13% of a fit), then libm for the
-/// rare entries outside its range. Same values as sincos_small.
+/// vectorizes it; a per-entry branch to libm kept it scalar, 13% of a fit), then libm for the
+/// rare entries outside its range, |x| > 1.6.
 void sincos_block(std::span<const double> x, std::size_t first, std::size_t count, double* cs) {
   const std::size_t k = x.size(), direct = std::min(count, k - first);
   const double* xf = x.data() + first;
@@ -654,8 +646,9 @@ double node_residual(const Chain& ch, std::span<const double> g, double gscale, 
 /// pushing outwards. Branch-free: each factorization reads the flags (several when the system
 /// needs a shift), and the test's branches were 6% of a fit.
 inline char held(const Chain& ch, std::span<const double> g, double eps, std::size_t i) {
-  return static_cast<char>(ch.fixed[i] | ((ch.x[i] <= ch.lo[i] + eps) & (g[i] > 0.0)) |
-                           ((ch.x[i] >= ch.hi[i] - eps) & (g[i] < 0.0)));
+  const int low = static_cast<int>(ch.x[i] <= ch.lo[i] + eps) & static_cast<int>(g[i] > 0.0);
+  const int high = static_cast<int>(ch.x[i] >= ch.hi[i] - eps) & static_cast<int>(g[i] < 0.0);
+  return static_cast<char>(ch.fixed[i] | low | high);
 }
 
 /// The active set's band around the bounds: eps = min(kActiveBand, pg).
@@ -2468,7 +2461,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     };
     // One pass: segment t − 1 once node t's direction is known (the closing one at the end).
     // The cosines and sines of a block of nodes at a time, by the evaluation's vectorized
-    // polynomial (the same values as sincos_small; scalar, it was a third of this pass).
+    // polynomial (sincos_block; scalar, it was a third of this pass).
     Vec2 u0, prev_out;
     double cs[2 * kEvalBlock];
     for (std::size_t first = 0; first < k; first += kEvalBlock) {
