@@ -695,7 +695,9 @@ ParsedInput input_from_fields(const json& document, std::vector<Vec2>* points) {
 
 }  // namespace
 
-json input_to_json(const FitInput& in, std::optional<double> accuracy) {
+namespace {
+
+json input_members(const FitInput& in, std::optional<double> accuracy, bool with_points) {
   const auto pair = [](Vec2 v) { return json::array({v.x, v.y}); };
   const auto optional_pairs = [&](const std::vector<std::optional<Vec2>>& vs) {
     json a = json::array();
@@ -717,7 +719,7 @@ json input_to_json(const FitInput& in, std::optional<double> accuracy) {
   }
   if (!in.knots.empty()) j["knots"] = in.knots;
   if (!in.out_tangents.empty()) j["out_tangents"] = optional_pairs(in.out_tangents);
-  if (!in.points.empty()) {
+  if (with_points && !in.points.empty()) {
     json p = json::array();
     for (const Point& q : in.points) p.push_back(pair(q));
     j["points"] = std::move(p);
@@ -736,6 +738,12 @@ json input_to_json(const FitInput& in, std::optional<double> accuracy) {
   }
   if (!in.tangents.empty()) j["tangents"] = optional_pairs(in.tangents);
   return j;
+}
+
+}  // namespace
+
+json input_to_json(const FitInput& in, std::optional<double> accuracy) {
+  return input_members(in, accuracy, true);
 }
 
 // ---------------------------------------------------------------- reading a result back
@@ -1071,3 +1079,11 @@ std::string summary_table(const FitResult& result) {
 }
 
 }  // namespace fairspline::io
+
+namespace fairspline::detail {
+
+nlohmann::json input_to_json_without_points(const FitInput& input, std::optional<double> accuracy) {
+  return io::input_members(input, accuracy, false);
+}
+
+}  // namespace fairspline::detail

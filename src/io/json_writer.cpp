@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "detail/json_input.hpp"
 #include "detail/number_format.hpp"
 #include "fairspline/io/json.hpp"
 
@@ -681,6 +682,29 @@ class Members {
   json::const_iterator next_, end_;
 };
 
+/// input_to_json(in, accuracy) written: its points streamed in their place among the keys.
+template <class Sink>
+void emit_request(Sink& s, const FitInput& in, std::optional<double> accuracy) {
+  constexpr std::string_view kPoints = "points";
+  const json rest = detail::input_to_json_without_points(in, accuracy);
+  bool points_written = in.points.empty();
+  const auto write_points = [&] {
+    s.key(kPoints);
+    s.begin_array();
+    s.elements(in.points.size(), [&](auto& to, std::size_t i) { emit_point(to, in.points[i]); });
+    s.end_array();
+    points_written = true;
+  };
+  s.begin_object();
+  for (auto it = rest.begin(); it != rest.end(); ++it) {
+    if (!points_written && std::string_view(it.key()) > kPoints) write_points();
+    s.key(it.key());
+    emit_value(s, it.value());
+  }
+  if (!points_written) write_points();
+  s.end_object();
+}
+
 template <class Sink>
 void emit_result(Sink& s, const FitResult& r, const json& extra) {
   Members<Sink> m(s, extra);
@@ -706,7 +730,7 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
     emit_report(s, *r.report);
   }
   m.key("request");
-  emit_value(s, input_to_json(r.input, r.accuracy));
+  emit_request(s, r.input, r.accuracy);
   m.key("segments");
   s.begin_array();
   s.elements(r.spline.segments.size(), [&](auto& to, std::size_t i) {

@@ -703,6 +703,41 @@ TEST(JsonWriter, LongArraysOnSeveralCoresAsTheOnePassText) {
   }
 }
 
+// The request is written without its document: its points streamed in their place among the
+// keys (before "radii", "start_tangent", "states", "tangents"; after the rest), the other
+// members as input_to_json has them. The text must be input_to_json's dumped, every field set.
+TEST(JsonWriter, TheRequestIsInputToJsonDumped) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  for (const std::size_t n : {3, 20000}) {
+    FitResult r;
+    r.method = "test";
+    r.accuracy = 1e-7;
+    FitInput& in = r.input;
+    in.closed = true;
+    in.alpha = 0.25;
+    in.start_tangent = Vec2{1.0, u(rng)};
+    in.end_tangent = Vec2{u(rng), -1.0};
+    for (std::size_t i = 0; i < n; ++i) {
+      in.points.push_back({u(rng), u(rng)});
+      in.knots.push_back(static_cast<double>(i));
+      in.radii.push_back(i % 3 == 0 ? 0.0 : 1e-3 * u(rng) * u(rng));
+      in.corners_deg.push_back(i % 2 == 0 ? 0.0 : u(rng));
+      in.tangents.push_back(i % 4 == 0 ? std::optional<Vec2>(Vec2{u(rng), u(rng)}) : std::nullopt);
+      in.in_tangents.push_back(i % 5 == 0 ? std::optional<Vec2>(Vec2{u(rng), 1.0}) : std::nullopt);
+      in.out_tangents.push_back(i % 7 == 0 ? std::optional<Vec2>(Vec2{1.0, u(rng)}) : std::nullopt);
+      in.kinds.push_back(static_cast<PointKind>(i % 3));
+      in.states.push_back({static_cast<SideState>(i % 3), static_cast<SideState>((i / 3) % 3)});
+    }
+    const std::string want = "\"request\":" + input_to_json(r.input, r.accuracy).dump();
+    EXPECT_NE(write_json(r).find(want), std::string::npos) << n;
+    EXPECT_EQ(json::parse(write_json(r, 2)).at("request"), input_to_json(r.input, r.accuracy));
+    r.input.points.clear();  // none: no "points" member
+    EXPECT_EQ(json::parse(write_json(r)).at("request"), input_to_json(r.input, r.accuracy));
+    EXPECT_FALSE(json::parse(write_json(r)).at("request").contains("points"));
+  }
+}
+
 TEST(JsonWriter, ExtraMembersGoInKeyOrder) {
   FitInput in;
   in.points = kExample;
