@@ -117,10 +117,18 @@ class TextSink {
     write_string(s);
   }
 
-  /// Elements 0 … n-1 of the array just opened, element i by emit(sink, i). A long array of a
-  /// compact text is written in chunks on up to four cores and joined in order, the same text:
-  /// formatting numbers is most of the writing of a long curve (2·10^5 points: 60 ms, a quarter
-  /// of `fairspline fit`'s process).
+  /// An array of n elements, element i written by emit(sink, i). A long one in a compact text
+  /// is written in chunks on up to four cores and joined in order, the same text: formatting
+  /// numbers is most of the writing of a long curve (2·10^5 points: 60 ms, a quarter of
+  /// `fairspline fit`'s process).
+  template <class Emit>
+  void array(std::size_t n, const Emit& emit) {
+    begin_array();
+    elements(n, emit);
+    end_array();
+  }
+
+  /// The elements of array(), the array just opened.
   template <class Emit>
   void elements(std::size_t n, const Emit& emit) {
     const std::size_t chunks = (n + kChunkItems - 1) / kChunkItems;
@@ -349,7 +357,7 @@ class TextSink {
   }
 
   static constexpr std::size_t kFlushBytes = 1 << 20;
-  /// Arrays of elements() from this length on are written on several cores, in chunks of
+  /// Arrays of array() from this length on are written on several cores, in chunks of
   /// kChunkItems (a thread costs ~50 µs to start; a chunk of segments, ~300 KB of text, takes
   /// ~300 µs to format and stays in the cache; chunks of 4096 took 4 times the fresh memory).
   static constexpr std::size_t kParallelItems = 1 << 14, kChunkItems = 1024;
@@ -372,7 +380,7 @@ class TextSink {
     return memo;
   }
 
-  /// A chunk of elements() formatted by another thread.
+  /// A chunk of array() formatted by another thread.
   struct Slot {
     std::string text;
     std::exception_ptr error;
@@ -428,8 +436,10 @@ class SaxSink {
   }
   void other(const json&) { h_.null(); }
   template <class Emit>
-  void elements(std::size_t n, const Emit& emit) {
+  void array(std::size_t n, const Emit& emit) {
+    begin_array();
     for (std::size_t i = 0; i < n; ++i) emit(*this, i);
+    end_array();
   }
 
  private:
@@ -520,8 +530,7 @@ void emit_report(Sink& s, const Report& r) {
   s.boolean(r.energy_singular);
   if (full) {
     s.key("intersections");
-    s.begin_array();
-    s.elements(r.intersections.size(), [&](auto& to, std::size_t i) {
+    s.array(r.intersections.size(), [&](auto& to, std::size_t i) {
       const Intersection& x = r.intersections[i];
       to.begin_object();
       to.key("point");
@@ -536,7 +545,6 @@ void emit_report(Sink& s, const Report& r) {
       to.number(x.u_b);
       to.end_object();
     });
-    s.end_array();
   }
   s.key("length");
   emit_optional(s, r.length);
@@ -554,8 +562,7 @@ void emit_report(Sink& s, const Report& r) {
   s.boolean(r.regular);
   if (full) {
     s.key("segment_reports");
-    s.begin_array();
-    s.elements(r.segments.size(), [&](auto& to, std::size_t i) {
+    s.array(r.segments.size(), [&](auto& to, std::size_t i) {
       const SegmentReport& g = r.segments[i];
       to.begin_object();
       to.key("bending_energy");
@@ -578,7 +585,6 @@ void emit_report(Sink& s, const Report& r) {
       to.boolean(g.regular);
       to.end_object();
     });
-    s.end_array();
   }
   s.end_object();
 }
@@ -690,9 +696,7 @@ void emit_request(Sink& s, const FitInput& in, std::optional<double> accuracy) {
   bool points_written = in.points.empty();
   const auto write_points = [&] {
     s.key(kPoints);
-    s.begin_array();
-    s.elements(in.points.size(), [&](auto& to, std::size_t i) { emit_point(to, in.points[i]); });
-    s.end_array();
+    s.array(in.points.size(), [&](auto& to, std::size_t i) { emit_point(to, in.points[i]); });
     points_written = true;
   };
   s.begin_object();
@@ -712,9 +716,7 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
   m.key("closed");
   s.boolean(r.closed);
   m.key("knots");
-  s.begin_array();
-  s.elements(r.knots.size(), [&](auto& to, std::size_t i) { to.number(r.knots[i]); });
-  s.end_array();
+  s.array(r.knots.size(), [&](auto& to, std::size_t i) { to.number(r.knots[i]); });
   m.key("method");
   s.string(r.method);
   m.key("method_report");
@@ -722,9 +724,7 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
   m.key("options");
   emit_object_or_empty(s, r.options);
   m.key("points");
-  s.begin_array();
-  s.elements(r.points.size(), [&](auto& to, std::size_t i) { emit_point(to, r.points[i]); });
-  s.end_array();
+  s.array(r.points.size(), [&](auto& to, std::size_t i) { emit_point(to, r.points[i]); });
   if (r.report) {
     m.key("report");
     emit_report(s, *r.report);
@@ -732,8 +732,7 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
   m.key("request");
   emit_request(s, r.input, r.accuracy);
   m.key("segments");
-  s.begin_array();
-  s.elements(r.spline.segments.size(), [&](auto& to, std::size_t i) {
+  s.array(r.spline.segments.size(), [&](auto& to, std::size_t i) {
     const Segment& g = r.spline.segments[i];
     to.begin_object();
     to.key("bezier");
@@ -748,11 +747,8 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
     to.number(g.t1);
     to.end_object();
   });
-  s.end_array();
   m.key("tangents");
-  s.begin_array();
-  s.elements(r.tangents.size(), [&](auto& to, std::size_t i) { emit_point(to, r.tangents[i]); });
-  s.end_array();
+  s.array(r.tangents.size(), [&](auto& to, std::size_t i) { emit_point(to, r.tangents[i]); });
   m.finish();
   s.end_object();
 }

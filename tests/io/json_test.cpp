@@ -675,7 +675,7 @@ TEST(JsonWriter, RepeatedNumbersAsDump) {
   }
 }
 
-// Long arrays of a compact text are written in chunks on several cores (TextSink::elements): the
+// Long arrays of a compact text are written in chunks on several cores (TextSink::array): the
 // same bytes as the indented text, which is written in one pass, parsed and dumped compact;
 // lengths around the chunk size and the threshold, and odd numbers of chunks.
 TEST(JsonWriter, LongArraysOnSeveralCoresAsTheOnePassText) {
