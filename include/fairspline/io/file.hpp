@@ -11,7 +11,7 @@
 namespace fairspline::io {
 
 /// A file's bytes, read whole. Large ones (from 1 MiB) sit in memory aligned to and advised for
-/// transparent huge pages: a std::string of a 8 MB input, zero-filled and then copied into, cost
+/// transparent huge pages: a std::string of an 8 MB input, zero-filled and then copied into, cost
 /// ~2000 page faults of ~14 µs each on the measuring VM, ten times the reading.
 class FileText {
  public:
