@@ -103,10 +103,7 @@ void reserve_to_fill(std::vector<T, A>& v, std::size_t n) {
 /// v.resize(n), new storage advised and mapped in before anything touches it (reserve does not).
 template <typename T, typename A>
 void resize_huge(std::vector<T, A>& v, std::size_t n) {
-  if (n > v.capacity()) {
-    reserve_huge(v, n);
-    prefault(v.data() + v.size(), (n - v.size()) * sizeof(T));
-  }
+  reserve_to_fill(v, n);
   v.resize(n);
 }
 

@@ -128,81 +128,6 @@ class TextSink {
     end_array();
   }
 
-  /// The elements of array(), the array just opened.
-  template <class Emit>
-  void elements(std::size_t n, const Emit& emit) {
-    const std::size_t chunks = (n + kChunkItems - 1) / kChunkItems;
-    const std::size_t threads =
-        indent_ < 0 && n >= kParallelItems
-            ? std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 4})
-            : 1;
-    if (threads < 2) {
-      for (std::size_t i = 0; i < n; ++i) emit(*this, i);
-      return;
-    }
-    // Chunk k is this thread's when k % threads == 0, written in place; the others' go through a
-    // ring of 2·threads texts: a worker waits for its slot to be written out before reusing it.
-    const std::size_t ring = 2 * threads;
-    // (Kept for the sink's next long array: their texts' memory is mapped in already.)
-    if (ring_size_ < ring) {
-      ring_ = std::make_unique<Slot[]>(ring);
-      ring_size_ = ring;
-    }
-    Slot* const slots = ring_.get();
-    for (std::size_t k = 0; k < ring; ++k) {
-      slots[k].error = nullptr;
-      slots[k].ready.store(0);
-    }
-    std::atomic<std::size_t> written{0};
-    std::atomic<bool> stop{false};
-    const auto range = [&](std::size_t k) {
-      return std::pair{k * kChunkItems, std::min(n, (k + 1) * kChunkItems)};
-    };
-    const auto work = [&](std::size_t first) {
-      for (std::size_t k = first; k < chunks; k += threads) {
-        for (std::size_t w = written.load(); w + ring < k + 1; w = written.load()) {
-          if (stop.load()) return;
-          written.wait(w);
-        }
-        Slot& slot = slots[k % ring];
-        try {
-          slot.text.clear();
-          TextSink sink(slot.text, -1);
-          const auto [lo, hi] = range(k);
-          for (std::size_t i = lo; i < hi; ++i) emit(sink, i);
-        } catch (...) {
-          slot.error = std::current_exception();
-        }
-        slot.ready.store(k + 1);
-        slot.ready.notify_one();
-      }
-    };
-    std::vector<std::jthread> pool;
-    // (Declared after the pool: runs first on the way out, so that no worker waits forever.)
-    const auto release = [&](void*) {
-      stop.store(true);
-      written.fetch_add(ring);
-      written.notify_all();
-    };
-    const std::unique_ptr<void, decltype(release)> guard(this, release);
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
-    for (std::size_t k = 0; k < chunks; ++k) {
-      if (k % threads == 0) {
-        const auto [lo, hi] = range(k);
-        for (std::size_t i = lo; i < hi; ++i) emit(*this, i);
-      } else {
-        Slot& slot = slots[k % ring];
-        for (std::size_t r = slot.ready.load(); r != k + 1; r = slot.ready.load()) {
-          slot.ready.wait(r);
-        }
-        if (slot.error) std::rethrow_exception(slot.error);
-        separate();
-        raw(slot.text);
-      }
-      written.store(k + 1);
-      written.notify_all();
-    }
-  }
   /// A value this writer does not spell out (binary, discarded): as dump() writes it.
   void other(const json& v) {
     before_value();
@@ -378,6 +303,82 @@ class TextSink {
   static NumberMemo& thread_memo() {
     thread_local NumberMemo memo;
     return memo;
+  }
+
+  /// The elements of array(), the array just opened.
+  template <class Emit>
+  void elements(std::size_t n, const Emit& emit) {
+    const std::size_t chunks = (n + kChunkItems - 1) / kChunkItems;
+    const std::size_t threads =
+        indent_ < 0 && n >= kParallelItems
+            ? std::min<std::size_t>({chunks, std::max(1u, std::thread::hardware_concurrency()), 4})
+            : 1;
+    if (threads < 2) {
+      for (std::size_t i = 0; i < n; ++i) emit(*this, i);
+      return;
+    }
+    // Chunk k is this thread's when k % threads == 0, written in place; the others' go through a
+    // ring of 2·threads texts: a worker waits for its slot to be written out before reusing it.
+    const std::size_t ring = 2 * threads;
+    // (Kept for the sink's next long array: their texts' memory is mapped in already.)
+    if (ring_size_ < ring) {
+      ring_ = std::make_unique<Slot[]>(ring);
+      ring_size_ = ring;
+    }
+    Slot* const slots = ring_.get();
+    for (std::size_t k = 0; k < ring; ++k) {
+      slots[k].error = nullptr;
+      slots[k].ready.store(0);
+    }
+    std::atomic<std::size_t> written{0};
+    std::atomic<bool> stop{false};
+    const auto range = [&](std::size_t k) {
+      return std::pair{k * kChunkItems, std::min(n, (k + 1) * kChunkItems)};
+    };
+    const auto work = [&](std::size_t first) {
+      for (std::size_t k = first; k < chunks; k += threads) {
+        for (std::size_t w = written.load(); w + ring < k + 1; w = written.load()) {
+          if (stop.load()) return;
+          written.wait(w);
+        }
+        Slot& slot = slots[k % ring];
+        try {
+          slot.text.clear();
+          TextSink sink(slot.text, -1);
+          const auto [lo, hi] = range(k);
+          for (std::size_t i = lo; i < hi; ++i) emit(sink, i);
+        } catch (...) {
+          slot.error = std::current_exception();
+        }
+        slot.ready.store(k + 1);
+        slot.ready.notify_one();
+      }
+    };
+    std::vector<std::jthread> pool;
+    // (Declared after the pool: runs first on the way out, so that no worker waits forever.)
+    const auto release = [&](void*) {
+      stop.store(true);
+      written.fetch_add(ring);
+      written.notify_all();
+    };
+    const std::unique_ptr<void, decltype(release)> guard(this, release);
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
+    for (std::size_t k = 0; k < chunks; ++k) {
+      if (k % threads == 0) {
+        const auto [lo, hi] = range(k);
+        for (std::size_t i = lo; i < hi; ++i) emit(*this, i);
+      } else {
+        Slot& slot = slots[k % ring];
+        for (std::size_t r = slot.ready.load(); r != k + 1; r = slot.ready.load()) {
+          slot.ready.wait(r);
+        }
+        if (slot.error) std::rethrow_exception(slot.error);
+        separate();
+        raw(slot.text);
+      }
+      written.store(k + 1);
+      written.notify_all();
+    }
   }
 
   /// A chunk of array() formatted by another thread.
