@@ -39,9 +39,14 @@ void prefault(void* p, std::size_t bytes) noexcept {
   if (p == nullptr || bytes < kAlignedBlockMinBytes) return;
   const auto a = reinterpret_cast<std::uintptr_t>(p);
   const std::uintptr_t lo = (a + kPage - 1) & ~(kPage - 1), hi = (a + bytes) & ~(kPage - 1);
+  if (hi <= lo) return;
+  // Memory malloc reuses (a repeated fit's freed arrays, below its mmap threshold) is mapped in
+  // already, and walking its pages again cost ~8% of a 10^5-point local fit: a first page that
+  // is resident stands for the range (a fresh mapping has none).
+  unsigned char first = 0;
+  if (mincore(reinterpret_cast<void*>(lo), kPage, &first) == 0 && (first & 1) != 0) return;
   // (EINVAL before Linux 5.14: the pages fault in when touched, as without the call.)
-  if (hi > lo)
-    static_cast<void>(madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_POPULATE_WRITE));
+  static_cast<void>(madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_POPULATE_WRITE));
 #else
   static_cast<void>(p);
   static_cast<void>(bytes);

@@ -16,6 +16,7 @@
 
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/input.hpp"
 #include "detail/numbers.hpp"
 #include "fairspline/error.hpp"
@@ -560,7 +561,7 @@ void directions(const Problem& pb, std::vector<Vec2>& dirs) {
   const std::size_t n = P.size();
   const bool fast = pb.specs.empty() && pb.global.rule == Rule::kOptimal;
   dirs.clear();
-  dirs.reserve(n);
+  detail::reserve_to_fill(dirs, n);
   auto chord = [&](std::size_t j) {
     return make_chord(P[j], P[j + 1 == n ? 0 : j + 1], t[j + 1] - t[j]);
   };
@@ -655,7 +656,7 @@ std::uint64_t segments(const Problem& pb, const std::vector<Vec2>& dirs,
     return bad;
   }
   segs.clear();
-  segs.reserve(spans);
+  detail::reserve_to_fill(segs, spans);
   for (std::size_t j = 0; j < spans; ++j) segs.push_back(piece(j));
   return bad;
 }

@@ -13,6 +13,7 @@
 
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/input.hpp"
 #include "detail/tridiagonal.hpp"
 #include "fairspline/energy.hpp"
@@ -74,8 +75,8 @@ void solve_open_free(const LiProblem& pb, std::vector<Vec2>& m, std::vector<doub
   const auto& P = pb.points;
   const auto& t = pb.knots;
   const double w2h2 = pb.w2 * pb.h2;
-  m.resize(n);
-  c.resize(n);
+  detail::resize_huge(m, n);
+  detail::resize_huge(c, n);
   SpanTerms prev{0.0, 0.0, {0.0, 0.0}};  // span j-1 (none before node 0)
   double c_prev = 0.0;
   Vec2 y_prev{0.0, 0.0};
@@ -163,7 +164,7 @@ void solve_tangents(const LiProblem& pb, std::vector<Vec2>& m) {
           return t[s + 1] - t[s];
         },
         [&](std::size_t j) { return fixed_at_point((j + r) % n); }, pb.w1, pb.w2 * pb.h2, mr);
-    m.resize(n);
+    detail::resize_huge(m, n);
     for (std::size_t j = 0; j < n; ++j) m[(j + r) % n] = mr[j];
     return;
   }
@@ -306,7 +307,8 @@ void fit_li(const FitInput& input, const LiOptions& options, ReportLevel level, 
 
   out.spline.closed = pb.closed;
   auto& segments = out.spline.segments;
-  segments.resize(spans);  // no-op when the result is reused for same-size fits
+  // A no-op when the result is reused for same-size fits; a fresh one is mapped in whole.
+  detail::resize_huge(segments, spans);
   Segment* seg = segments.data();
   std::uint64_t bad = 0;  // non-finite output, checked while the data is in registers
   const auto& P = pb.points;

@@ -13,6 +13,7 @@
 
 #include "detail/choices.hpp"
 #include "detail/finite.hpp"
+#include "detail/huge_pages.hpp"
 #include "detail/input.hpp"
 #include "detail/knots.hpp"
 #include "detail/numbers.hpp"
@@ -900,7 +901,8 @@ YongChengSpanReport span_report(const CohCurve& c, bool equal, Point p0, Point p
   return r;
 }
 
-/// Names the first span with a non-finite control point (`bad`: the OR of their bits).
+/// Names the first span with a non-finite control point, else the tangent (`bad`: the OR of
+/// their bits).
 void check_finite(const FitResult& out, std::uint64_t bad) {
   if (!bad) return;
   for (const Segment& s : out.spline.segments) {
@@ -911,6 +913,8 @@ void check_finite(const FitResult& out, std::uint64_t bad) {
                   s.span);
     }
   }
+  // (The registry's own check is skipped for this method, so this one names a tangent too.)
+  detail::check_finite_output(out, "yong-cheng");
 }
 
 }  // namespace
@@ -923,8 +927,12 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
   std::vector<Vec2> v;
   collect_tangents(input, n, v);
   out.spline.closed = out.closed;
-  out.tangents.resize(n);
-  for (std::size_t i = 0; i < n; ++i) out.tangents[i] = safe_unit(v[i]);
+  detail::resize_huge(out.tangents, n);
+  std::uint64_t bad = 0;  // non-finite output (the registry leaves the check to the method)
+  for (std::size_t i = 0; i < n; ++i) {
+    out.tangents[i] = safe_unit(v[i]);
+    bad |= detail::non_finite_bits(out.tangents[i]);
+  }
 
   const bool free_ratio = options.ratio == YongChengRatio::kFree;
   YongChengReport report{.composite = options.composite,
@@ -935,8 +943,13 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
                          .constructions = {},
                          .all_preserved = true};
   out.spline.segments.clear();
-  out.spline.segments.reserve(spans);
-  std::uint64_t bad = 0;
+  // One to three pieces a span (COH curves): room for the most, so that the vector never
+  // moves, with the first `spans` mapped in (the rest is address space until written).
+  const std::size_t most = options.composite ? 3 * spans : spans;
+  if (most > out.spline.segments.capacity()) {
+    detail::reserve_huge(out.spline.segments, most);
+    detail::prefault(out.spline.segments.data(), spans * sizeof(Segment));
+  }
   std::array<HermiteEnds, kChunk> chunk_ends;
   std::vector<CohCurve> chunk(free_ratio ? std::min(kChunk, spans) : 0);
   for (std::size_t i = 0; i < spans; ++i) {
@@ -1014,6 +1027,7 @@ std::vector<MethodInfo> yong_cheng_methods() {
             fit_yong_cheng(in, opt, f.method_report_level(), out);
           },
       .capabilities = yong_cheng_capabilities(),
+      .checks_own_output = true,
       // Derivative lengths dP/dt per unit of the given vector's length.
       .report_units = {{"spans/*/coefficients/*/*", 1, -1}},
   }};
