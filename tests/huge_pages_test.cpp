@@ -134,5 +134,20 @@ TEST(Prefault, MapsInEveryPageOfTheRange) {
   munmap(p, bytes);
 }
 
+TEST(Prefault, LeavesARangeWhoseFirstPageIsMappedInAlone) {
+  // Memory malloc hands back to a repeated fit is mapped in already; walking it again cost
+  // 8-15% of a 10^5-point local fit. Its resident first page stands for the range.
+  const std::size_t bytes = 4 * kMiB, page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  void* const p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(p, MAP_FAILED);
+  static_cast<volatile unsigned char*>(p)[0] = 1;
+  prefault(p, bytes);
+  std::vector<unsigned char> in(bytes / page);
+  ASSERT_EQ(mincore(p, bytes, in.data()), 0);
+  // (A transparent huge page may bring the first 2 MiB in with the first byte.)
+  EXPECT_EQ(in.back() & 1, 0);
+  munmap(p, bytes);
+}
+
 }  // namespace
 }  // namespace fairspline::detail
