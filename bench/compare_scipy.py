@@ -53,6 +53,10 @@ from scipy.interpolate import (Akima1DInterpolator, CubicSpline, PchipInterpolat
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
+# The speed goals (ratio to SciPy's natural CubicSpline) that --target defaults to: issue 22's
+# for the default method (a fresh result) and li-strain (fit_into), the method pages' otherwise.
+GOALS = {"quasi-elastic": 1.0, "li-strain": 12.0, "jaklic-zagar": 8.0}
+
 MAX_TURN_DEG = 120.0
 MIN_STEP, MAX_STEP = 0.5, 2.0
 DEFAULT_ALPHA = 0.5
@@ -229,11 +233,14 @@ def main(argv=None):
                          "process --n items per iteration (e.g. ogh/segments/1000000); "
                          "repeatable")
     ap.add_argument("--cli", help="fairspline CLI; used when it has a 'bench' subcommand")
-    ap.add_argument("--target", type=float, default=10.0,
-                    help="ratio fairspline/SciPy to report against (default 10)")
+    ap.add_argument("--target", type=float, default=None,
+                    help="ratio fairspline/SciPy to report against (default: the method's goal "
+                         "from issue 22 and the method pages, see GOALS; else 10)")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per external command")
     ap.add_argument("--json", metavar="OUT", help="also write the results as JSON to OUT")
     args = ap.parse_args(argv)
+    if args.target is None:
+        args.target = GOALS.get(args.method, 10.0)
     if args.n < 3 or args.repeat < 1 or not 0.0 <= args.alpha <= 1.0:
         ap.error("need --n >= 3, --repeat >= 1 and --alpha in [0, 1]")
     if args.closed and args.peer != "cubic":
