@@ -1683,8 +1683,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   // stationary (s41-c1297: a tangential force of 1e-4 at an active ball). The balls at the
   // ends of such chords keep their rounded positions as plain points, and the rest is
   // optimized again for them.
-  std::vector<std::size_t> frozen;
-  std::vector<Node> frozen_as;  // as they were, for the report
+  std::vector<std::pair<std::size_t, Node>> frozen;  // each as it was, for the report
   if (res.converged || stopped_at_precision(res)) {
     std::vector<char> freeze(n, 0);
     for (std::size_t s = 0; s < pb.spans(); ++s) {
@@ -1698,8 +1697,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     for (std::size_t i = 0; i < n; ++i) {
       Node& nd = pb.node[i];
       if (!freeze[i] || nd.r == 0.0) continue;
-      frozen.push_back(i);
-      frozen_as.push_back(nd);
+      frozen.emplace_back(i, nd);
       nd.q = pb.position(i);
       nd.o = {0.0, 0.0};
       nd.r = 0.0;
@@ -1718,7 +1716,6 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
         pb = std::move(before);
         st = std::move(before_st);
         frozen.clear();
-        frozen_as.clear();
       }
     }
   }
@@ -1896,9 +1893,9 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
                   *at);
     }
   }
-  for (std::size_t k = 0; k < frozen.size(); ++k) {  // balls again, for the report
-    pb.node[frozen[k]].r = frozen_as[k].r;
-    pb.node[frozen[k]].boundary = frozen_as[k].boundary;
+  for (const auto& [i, as] : frozen) {  // balls again, for the report
+    pb.node[i].r = as.r;
+    pb.node[i].boundary = as.boundary;
   }
   std::vector<std::size_t> active;
   for (std::size_t i = 0; i < n; ++i) {
