@@ -488,6 +488,9 @@ constexpr double kBallTolerance = 2.5e-9;
 
 /// The exact phase's barrier on the boxes that bound positions (relative to the typical torque).
 constexpr double kHeldBarrier = 1e-8;
+/// A held box's room (relative to Ω) below which its barrier stiffens, and how far it may.
+constexpr double kHeldRoom = 1e-10;
+constexpr double kHeldMostWeight = 1e6;
 
 // Pivots of the Newton matrix below this fraction of its largest diagonal entry count as zero.
 constexpr double kMinPivot = 1e-16;
@@ -658,6 +661,7 @@ class Solver {
     const double unit = std::max(std::sqrt(hsum / slots), 1e-3);
     held_weight_.resize(ns_);
     for (std::size_t s = 0; s < ns_; ++s) held_weight_[s] = kHeldBarrier * unit / st_.len[s];
+    base_held_ = held_weight_;
     if (!(force_ > 1e-6 * gscale_ * gscale_)) force_ = 1e-6 * gscale_ * gscale_;
   }
 
@@ -734,6 +738,7 @@ class Solver {
           pb_.m.basis != MinEnergyBasis::kElastic) {
         polish(mu, target);
       }
+      if (mu == 0.0 && !base_held_.empty()) adapt_held();
       std::size_t border = number_unknowns(pb_, scale_);
       double phi = evaluate(mu, border);
       double pg = 0.0, wrong = 0.0;
@@ -921,6 +926,30 @@ class Solver {
       }
     }
     return b;
+  }
+
+  // A held box whose room has shrunk below kHeldRoom·Ω is pressed by more than its barrier can
+  // hold at a representable room: its span's held weight grows tenfold per iteration (and falls
+  // back as the room opens), so that the barrier's force matches the box's multiplier at a room
+  // the certificate still counts as on the bound (s41-c1789: a torque 1e4 times the barrier's
+  // at the rounding floor of the room).
+  void adapt_held() {
+    const double om = pb_.omega;
+    room_.assign(ns_, HUGE_VAL);
+    for (const Slot& sl : pb_.slot) {
+      for (int k = 0; k < sl.nbox; ++k) {
+        const std::size_t s = sl.span[k];
+        if (box_weight(sl, k, 0.0) == 0.0) continue;
+        room_[s] = std::min(room_[s], om - std::abs(wrap(sl.theta + sl.offset[k] - st_.phi[s])));
+      }
+    }
+    for (std::size_t s = 0; s < ns_; ++s) {
+      if (room_[s] < kHeldRoom * om) {
+        held_weight_[s] = std::min(10.0 * held_weight_[s], kHeldMostWeight * base_held_[s]);
+      } else if (room_[s] > 100.0 * kHeldRoom * om) {
+        held_weight_[s] = std::max(0.1 * held_weight_[s], base_held_[s]);
+      }
+    }
   }
 
   // The barrier on box k of a slot: every box in the barrier phase; in the exact phase the
@@ -1337,6 +1366,8 @@ class Solver {
   std::size_t n_, ns_;
   double force_ = 0.0, torque_ = 0.0;  // the barrier's scales
   std::vector<double> held_weight_;    // per span: the exact phase's barrier on position bounds
+  std::vector<double> base_held_;      // held_weight_ as measure_scales() set it
+  std::vector<double> room_;           // per span: its held boxes' least room (adapt_held)
   double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
   std::vector<double> local_;  // per node: its spans' largest weight
   std::vector<double> floor_;  // per node: the residual its chords' rounding allows
