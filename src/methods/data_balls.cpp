@@ -178,6 +178,11 @@ void chord_angles(const Problem& pb, State& st) {
 }
 
 // The end angles of span s.
+/// A direction's angle from the chord of box k's span, less that box's offset (its bound is ±Ω).
+double box_deviation(const Slot& sl, int k, const State& st) {
+  return wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
+}
+
 std::pair<double, double> end_angles(const Problem& pb, const State& st, std::size_t s) {
   const Node& a = pb.node[s];
   const Node& b = pb.node[pb.next(s)];
@@ -218,7 +223,7 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
       sl.theta = st.phi[sl.span[a]] - sl.offset[a] + sl.sign * om;
     }
     for (int b = 0; b < sl.nbox; ++b) {
-      const double dev = wrap(sl.theta + sl.offset[b] - st.phi[sl.span[b]]);
+      const double dev = box_deviation(sl, b, st);
       // (A bound met to rounding counts as met: a position on its circle moves by ulps.)
       if (std::abs(dev) < om || (clip && std::abs(dev) <= om * (1.0 + kBoxRounding))) continue;
       if (sl.fixed || sl.active >= 0 || !clip) return false;
@@ -226,7 +231,7 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
       sl.active = b;
       sl.sign = dev > 0 ? 1 : -1;
       for (int c = 0; c < b; ++c) {
-        if (std::abs(wrap(sl.theta + sl.offset[c] - st.phi[sl.span[c]])) > om) return false;
+        if (std::abs(box_deviation(sl, c, st)) > om) return false;
       }
     }
   }
@@ -604,7 +609,7 @@ class Solver {
       if (sl.fixed) continue;
       sl.active = -1;
       for (int k = 0; k < sl.nbox; ++k) {  // strictly inside its boxes
-        const double dev = wrap(sl.theta + sl.offset[k] - st_.phi[sl.span[k]]);
+        const double dev = box_deviation(sl, k, st_);
         const double lim = om * (1.0 - 1e-3);
         if (std::abs(dev) > lim) sl.theta -= dev - std::copysign(lim, dev);
       }
@@ -684,7 +689,7 @@ class Solver {
     for (Slot& sl : p.slot) {
       if (sl.fixed || sl.active >= 0) continue;
       for (int k = 0; k < sl.nbox; ++k) {
-        const double dev = wrap(sl.theta + sl.offset[k] - st_.phi[sl.span[k]]);
+        const double dev = box_deviation(sl, k, st_);
         if (om - std::abs(dev) <= kCrossOver * om) {
           sl.active = k;
           sl.sign = dev > 0 ? 1 : -1;
@@ -926,7 +931,7 @@ class Solver {
       for (int k = 0; k < sl.nbox; ++k) {
         const double w = box_weight(sl, k, mu);
         if (w == 0.0) continue;
-        const double dev = wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
+        const double dev = box_deviation(sl, k, st);
         const double room = std::max(om - std::abs(dev), kBoxRounding * om);
         b -= w * std::log(room * (2.0 * om - room) / (om * om));
       }
@@ -953,7 +958,7 @@ class Solver {
       for (int k = 0; k < sl.nbox; ++k) {
         const std::size_t s = sl.span[k];
         if (box_weight(sl, k, 0.0) == 0.0) continue;
-        room_[s] = std::min(room_[s], om - std::abs(wrap(sl.theta + sl.offset[k] - st_.phi[s])));
+        room_[s] = std::min(room_[s], om - std::abs(box_deviation(sl, k, st_)));
       }
     }
     for (std::size_t s = 0; s < ns_; ++s) {
@@ -1004,7 +1009,7 @@ class Solver {
         const Jet dev = difference(
             slot_jet(pb_, sl), angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)]),
                                            pb_.node[pb_.next(t)].q - pb_.node[t].q)));
-        const double x = wrap(sl.theta + sl.offset[k] - st_.phi[t]);
+        const double x = box_deviation(sl, k, st_);
         const double lo = std::max(om + x, kBoxRounding * om),
                      hi = std::max(om - x, kBoxRounding * om);
         add_function(dev, w * (1.0 / hi - 1.0 / lo), w * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
@@ -1174,7 +1179,7 @@ class Solver {
     for (Slot& sl : p.slot) {
       if (sl.var < 0) continue;
       for (int k = 0; k < sl.nbox; ++k) {
-        const double dev = wrap(sl.theta + sl.offset[k] - st_.phi[sl.span[k]]);
+        const double dev = box_deviation(sl, k, st_);
         if (om - std::abs(dev) > kSqueezed * om || g_[sl.var] * dev >= 0.0) continue;
         sl.active = k;
         sl.sign = dev > 0 ? 1 : -1;
@@ -1713,7 +1718,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
   for (Slot& sl : pb.slot) {
     if (sl.fixed) continue;
     for (int b = 0; b < sl.nbox; ++b) {
-      const double dev = wrap(sl.theta + sl.offset[b] - st.phi[sl.span[b]]);
+      const double dev = box_deviation(sl, b, st);
       if (std::abs(dev) >= pb.omega - 1e-12) {
         sl.active = b;
         sl.sign = dev > 0 ? 1 : -1;
