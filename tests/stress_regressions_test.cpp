@@ -96,6 +96,9 @@ const std::vector<std::string> kInputs = {
     // A noisy closed circle where ball 122, 1e-8·r inside its circle and pushed outward,
     // stayed free; it converges once the held barrier beside it can hold its multiplier.
     "quasi-elastic-balls-not_converged-s19-c193.json",
+    // Steps within the energy's rounding that did not lower the KKT residual (a valley flat to
+    // the rounding): the iterations wandered there until the stop for flat steps.
+    "quasi-elastic-balls-not_converged-s19-c847.json",
     "quasi-elastic-balls-not_converged-s19-c914.json",
     // A ball on its circle beside a held barrier (Hessian diagonal 4e10): its gradient cannot
     // fall below 5.7e-6, one rounding unit of its position's worth, a conditioning limit.
@@ -123,6 +126,12 @@ const std::vector<std::string> kInputs = {
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-kkt-s41-c1062.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
+    // A 210-point noisy circle and four points whose Newton steps each changed the energy by
+    // its rounding (the elastic energies' 1e-12) while the residual came back at 1e-6 … 1e-5
+    // (a curved valley, flat to that rounding, that the full step overshot): now the residual
+    // judges such steps and a shift shortens them.
+    "restricted-elastic-balls-not_converged-s19-c563.json",
+    "restricted-elastic-balls-not_converged-s41-c1460.json",
     "restricted-elastic-balls-not_converged-s41-c1920.json",
     "restricted-elastic-not_converged-s18-c130322.json",
     "restricted-elastic-not_converged-s18-c191336.json",

@@ -720,6 +720,8 @@ class Solver {
     Outcome o;
     int flat = 0, stuck = 0;
     double best_pg = HUGE_VAL;
+    std::array<double, 4> recent;
+    recent.fill(HUGE_VAL);
     // Without a barrier, the point of least residual so far: where the energy's rounding lets
     // steps wander (the elastic energies, to ~1e-12), a stop returns it rather than the last.
     Problem best;
@@ -753,6 +755,7 @@ class Solver {
       o.raw = raw_residual_;
       o.unresolved = unresolved_;
       o.worst = pg >= wrong ? pg_at : wrong_at;
+      recent[o.iterations % recent.size()] = std::max(pg, wrong);
       if (pg <= target && wrong <= target) {
         o.converged = true;
         if (mu == 0.0 && release_strict(o, best, best_st, best_o, target)) {
@@ -845,13 +848,31 @@ class Solver {
         }
         return stop(o);
       }
+      // Where the energy cannot tell the step from no step, the KKT residual judges it.
+      bool shortened = false;
+      if (mu == 0.0 && total_energy(trial_, tst_) + barrier(trial_, tst_, mu) > phi - rounding) {
+        // With a shifted (indefinite) matrix the residual may rise for a step on the way to
+        // the optimum (s41-c940): there the step is measured against the last few residuals.
+        double allowance = 0.0;
+        if (shift_ > 0.0) {
+          for (double r : recent) allowance = std::max(allowance, r);
+        }
+        shortened = shorten_by_residual(phi, rounding, allowance);
+        if (shortened) t = 1.0;
+      }
+      const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
+      // (A step that the residual chose changed the energy by its rounding: that change says
+      // nothing about how well the model predicted it.)
+      if (shortened) {
+        damping_ = shift_ / 4.0;
+      } else {
+        adapt_damping(t, phi - e);
+      }
       // Steps accepted only within the rounding of φ while the residual does not fall below
       // 0.9 of its best before them: the point is as good as it gets. (Compared with the best
       // including this one, every new best counted as flat: s41-c940 stopped at 2.2e-6 while
       // its residual fell tenfold per step, beside a near-repeated pair whose energy's
       // rounding hid the rest's decrease.)
-      const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
-      adapt_damping(t, phi - e);
       flat = e > phi - rounding && pg >= 0.9 * best_pg ? flat + 1 : 0;
       best_pg = std::min(best_pg, pg);
       std::swap(pb_, trial_);
@@ -868,6 +889,56 @@ class Solver {
         return stop(o);
       }
     }
+  }
+
+  // The KKT residual (scaled, as residuals() gives it) at trial_ and at the current point; the
+  // members (unknowns, gradient, Hessian, residuals) describe the current point again after.
+  std::pair<double, double> residual_at_trial() {
+    auto measure = [&] {
+      evaluate(0.0, number_unknowns(pb_, scale_));
+      double pg = 0.0, wrong = 0.0;
+      std::size_t pg_at = 0, wrong_at = 0;
+      residuals(pg, pg_at, wrong, wrong_at);
+      return std::max(pg, wrong);
+    };
+    std::swap(pb_, trial_);
+    std::swap(st_, tst_);
+    const double at_trial = measure();
+    std::swap(pb_, trial_);
+    std::swap(st_, tst_);
+    return {at_trial, measure()};
+  }
+
+  // A step whose energy change is within the energy's rounding, judged by the KKT residual: it
+  // is kept if the residual does not rise above `allowance` (or the current one, if larger);
+  // else the step is shortened along the flat directions (a Levenberg–Marquardt shift, tenfold
+  // per try) until it halves the residual. Along a curved valley that is flat to the energy's
+  // rounding, the full Newton step overshoots the valley's bend and the stiff directions'
+  // gradient comes back as large (s41-c1460: 1e-5 for 100 steps, each changing the energy by
+  // its rounding). Says whether trial_ is now the shortened step (else it is the given one).
+  bool shorten_by_residual(double phi, double rounding, double allowance) {
+    const auto [after, now] = residual_at_trial();
+    if (after < std::max(now, allowance)) return false;
+    Problem keep = trial_;
+    State keep_st = tst_;
+    const std::vector<double> keep_step = step_;
+    const double keep_slope = slope_, keep_sq = step_sq_, keep_shift = shift_,
+                 keep_damping = damping_;
+    double dmax = 0.0;
+    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    for (double shift = 1e-8 * dmax; shift <= dmax; shift *= 10.0) {
+      factored_ = false;
+      damping_ = shift;
+      newton();
+      if (!move(1.0, 0.0)) continue;
+      const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, 0.0);
+      if (e <= phi + rounding && residual_at_trial().first <= 0.5 * now) return true;
+    }
+    std::swap(trial_, keep);
+    std::swap(tst_, keep_st);
+    step_ = keep_step;
+    slope_ = keep_slope, step_sq_ = keep_sq, shift_ = keep_shift, damping_ = keep_damping;
+    return false;
   }
 
   /// At a stationary point: tries each direction pair of a span whose E_1 is concave there
