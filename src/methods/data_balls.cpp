@@ -849,8 +849,9 @@ class Solver {
         return stop(o);
       }
       // Where the energy cannot tell the step from no step, the KKT residual judges it.
+      double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
       bool shortened = false;
-      if (mu == 0.0 && total_energy(trial_, tst_) + barrier(trial_, tst_, mu) > phi - rounding) {
+      if (mu == 0.0 && e > phi - rounding) {
         // With a shifted (indefinite) matrix the residual may rise for a step on the way to
         // the optimum (s41-c940): there the step is measured against the last few residuals.
         double allowance = 0.0;
@@ -858,9 +859,11 @@ class Solver {
           for (double r : recent) allowance = std::max(allowance, r);
         }
         shortened = shorten_by_residual(phi, rounding, allowance);
-        if (shortened) t = 1.0;
+        if (shortened) {
+          t = 1.0;
+          e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
+        }
       }
-      const double e = total_energy(trial_, tst_) + barrier(trial_, tst_, mu);
       // (A step that the residual chose changed the energy by its rounding: that change says
       // nothing about how well the model predicted it.)
       if (shortened) {
@@ -924,8 +927,7 @@ class Solver {
     const std::vector<double> keep_step = step_;
     const double keep_slope = slope_, keep_sq = step_sq_, keep_shift = shift_,
                  keep_damping = damping_;
-    double dmax = 0.0;
-    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    const double dmax = largest_diagonal();
     for (double shift = 1e-8 * dmax; shift <= dmax; shift *= 10.0) {
       factored_ = false;
       damping_ = shift;
@@ -1350,13 +1352,20 @@ class Solver {
     return any;
   }
 
+  // The Newton matrix's largest diagonal entry (in absolute value): the scale of its shifts and
+  // pivots.
+  double largest_diagonal() const {
+    double dmax = 0.0;
+    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    return dmax;
+  }
+
   // Where the Newton matrix is not positive definite, each span's part of it is made so (its
   // Hessian projected onto the PSD cone) instead of shifting the whole matrix: a shift that one
   // concave span needed (cond-G2 with λ > 3/2 is concave around a straight span) slowed every
   // unknown to a gradient step, hundreds of iterations on five points.
   void convexify(double mu, std::size_t border) {
-    double dmax = 0.0;
-    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    const double dmax = largest_diagonal();
     factored_ = h_.factor(0.0, kMinPivot * std::max(dmax, gscale_));
     if (!factored_) evaluate(mu, border, true);
   }
@@ -1371,8 +1380,7 @@ class Solver {
       for (const auto& [i, v] : pins) hp_.pin(i, v, step_);
       h = &hp_;
     }
-    double dmax = 0.0;
-    for (std::size_t k = 0; k < scale_.size(); ++k) dmax = std::max(dmax, std::abs(h_.diagonal(k)));
+    const double dmax = largest_diagonal();
     const double min_pivot = kMinPivot * std::max(dmax, gscale_);
     // (convexify factored the same matrix already: definite, no shift)
     if (factored_) damping_ = 0.0;
