@@ -56,6 +56,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # The speed goals (ratio to SciPy's natural CubicSpline) that --target defaults to: issue 22's
 # for the default method (a fresh result) and li-strain (fit_into), the method pages' otherwise.
 GOALS = {"quasi-elastic": 1.0, "li-strain": 12.0, "jaklic-zagar": 8.0}
+# With --benchmark: the goal of the first benchmark named (yong-cheng.md, issue 22).
+BENCHMARK_GOALS = {"ogh/segments/": 12.0, "coh/dispatch/": 2.5}
 
 MAX_TURN_DEG = 120.0
 MIN_STEP, MAX_STEP = 0.5, 2.0
@@ -234,11 +236,15 @@ def main(argv=None):
                          "repeatable")
     ap.add_argument("--cli", help="fairspline CLI; used when it has a 'bench' subcommand")
     ap.add_argument("--target", type=float, default=None,
-                    help="ratio fairspline/SciPy to report against (default: the method's goal "
-                         "from issue 22 and the method pages, see GOALS; else 10)")
+                    help="ratio fairspline/SciPy to report against (default: the goal of the "
+                         "first --benchmark or of the method, from issue 22 and the method "
+                         "pages, see BENCHMARK_GOALS and GOALS; else 10)")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per external command")
     ap.add_argument("--json", metavar="OUT", help="also write the results as JSON to OUT")
     args = ap.parse_args(argv)
+    if args.target is None and args.benchmark:
+        args.target = next((goal for prefix, goal in BENCHMARK_GOALS.items()
+                            if args.benchmark[0].startswith(prefix)), None)
     if args.target is None:
         args.target = GOALS.get(args.method, 10.0)
     if args.n < 3 or args.repeat < 1 or not 0.0 <= args.alpha <= 1.0:

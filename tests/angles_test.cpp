@@ -1,11 +1,12 @@
-// detail::half_angle and detail::atan2_right (src/detail/angles.hpp); the angle against long
-// double atan2l.
+// detail::half_angle, atan2_right, atan2_fast and sincos_taylor (src/detail/angles.hpp); the
+// angles against long double atan2l, the sines and cosines against sinl and cosl.
 #include "detail/angles.hpp"
 
 #include "detail/numbers.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -73,6 +74,57 @@ TEST(Atan2Right, AxesZerosAndNaN) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(std::isnan(atan2_right(nan, 1.0)));
   EXPECT_TRUE(std::isnan(atan2_right(1.0, nan)));
+}
+
+TEST(Atan2Fast, WithinTwoUlpOfTheExactAngleAllRoundTheCircle) {
+  std::mt19937_64 rng(20261129);
+  std::uniform_real_distribution<double> angle(-kPi, kPi), decade(-30.0, 30.0);
+  double worst = 0.0;
+  for (int i = 0; i < 2000000; ++i) {
+    // Every fourth direction near an axis or a diagonal, where the reductions switch (and near
+    // ±π, where the left half-plane's subtraction from π is closest to cancelling).
+    double t = angle(rng);
+    if (i % 4 == 0) t = std::round(t / (kPi / 8.0)) * (kPi / 8.0) + 1e-9 * angle(rng);
+    const double r = std::pow(10.0, decade(rng));
+    const double x = r * std::cos(t), y = r * std::sin(t);
+    const long double exact = std::atan2(static_cast<long double>(y), static_cast<long double>(x));
+    worst = std::max(worst, ulps(atan2_fast(y, x), exact));
+  }
+  EXPECT_LE(worst, 2.0);
+}
+
+TEST(Atan2Fast, LeftAxisZerosAndNaN) {
+  EXPECT_EQ(atan2_fast(0.0, -1.0), kPi);
+  EXPECT_EQ(atan2_fast(-0.0, -1.0), -kPi);
+  EXPECT_EQ(atan2_fast(1e-300, -1.0), kPi);
+  EXPECT_DOUBLE_EQ(atan2_fast(1.0, -1.0), 3.0 * kPi / 4.0);
+  EXPECT_DOUBLE_EQ(atan2_fast(-1.0, -1.0), -3.0 * kPi / 4.0);
+  EXPECT_EQ(atan2_fast(3.0, 0.0), atan2_right(3.0, 0.0));
+  EXPECT_EQ(atan2_fast(0.0, 2.0), 0.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(atan2_fast(nan, -1.0)));
+  EXPECT_TRUE(std::isnan(atan2_fast(1.0, nan)));
+}
+
+TEST(SincosTaylor, WithinThreeRoundingUnitsOfTheExactValuesUpToARightAngle) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> angle(-kPi / 2.0, kPi / 2.0);
+  double worst = 0.0;
+  for (int i = 0; i < 1000000; ++i) {
+    const double x = i % 3 == 0 ? angle(rng) * 1e-6 : angle(rng);
+    double s = 0.0, c = 0.0;
+    sincos_taylor(x, s, c);
+    const long double xl = x;
+    // Absolute error in units of 2^-53 (half an ulp of 1): what a unit vector's components
+    // carry. The series itself is exact there; the rest is the rounding of its terms.
+    worst = std::max({worst, static_cast<double>(std::abs(s - std::sin(xl)) / 0x1p-53L),
+                      static_cast<double>(std::abs(c - std::cos(xl)) / 0x1p-53L)});
+  }
+  EXPECT_LE(worst, 3.0);
+  double s = 1.0, c = 0.0;
+  sincos_taylor(0.0, s, c);
+  EXPECT_EQ(s, 0.0);
+  EXPECT_EQ(c, 1.0);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Half angles, and angles of directions in the right half-plane faster than libm's atan2
-// (private).
+// Half angles, angles of directions and sines and cosines of small angles, faster than libm's
+// atan2 and sincos and inlined, so that loops over many of them overlap or vectorize (private).
 #pragma once
 
 #include <cmath>
@@ -63,6 +63,59 @@ inline double atan2_right(double y, double x) {
   if (steep) r = kHalfHi - (r - kHalfLo);
   if (x != x || y != y) return x + y;  // NaN
   return std::copysign(r, y);
+}
+
+/// atan2(y, x) in [−π, π] from atan2_right: for x < 0 it is ±π (y's sign) minus the angle of
+/// the mirror image (−x, y) from the axis, π split in two doubles. Within ~2 ulp of the
+/// exact angle (tests/angles_test.cpp). For finite arguments (NaN in gives NaN).
+inline double atan2_fast(double y, double x) {
+  if (!(x < 0.0)) return atan2_right(y, x);
+  constexpr double kPiHi = 3.14159265358979311600e0, kPiLo = 1.22464679914735320717e-16;
+  return std::copysign(kPiHi - (std::abs(atan2_right(y, -x)) - kPiLo), y);
+}
+
+/// sin x and cos x by their Taylor series to degree kSinDegree / kSinDegree + 1. The default,
+/// 21/22, serves |x| <= π/2: the series' error is below 2e-18 there ((π/2)^23/23!), the rounding
+/// of its terms within 3·2⁻⁵³ (tests/angles_test.cpp); a caller with a narrower range may stop
+/// earlier (the error is below |x|^(d+2)/(d+2)! for degree d). Unlike a libm call it is inlined,
+/// so a loop over many angles vectorizes or overlaps; callers send larger angles to libm.
+template <int kSinDegree = 21>
+inline void sincos_taylor(double x, double& sn, double& cn) {
+  static_assert(kSinDegree % 2 == 1 && kSinDegree >= 3 && kSinDegree <= 21);
+  // 1/k! for k = 0 … 22 (every k! up to 22! is exact in a double, so each entry is 1/k! rounded).
+  constexpr double kInvFact[] = {1.0,
+                                 1.0,
+                                 1.0 / 2,
+                                 1.0 / 6,
+                                 1.0 / 24,
+                                 1.0 / 120,
+                                 1.0 / 720,
+                                 1.0 / 5040,
+                                 1.0 / 40320,
+                                 1.0 / 362880,
+                                 1.0 / 3628800,
+                                 1.0 / 39916800,
+                                 1.0 / 479001600,
+                                 1.0 / 6227020800.0,
+                                 1.0 / 87178291200.0,
+                                 1.0 / 1307674368000.0,
+                                 1.0 / 20922789888000.0,
+                                 1.0 / 355687428096000.0,
+                                 1.0 / 6402373705728000.0,
+                                 1.0 / 121645100408832000.0,
+                                 1.0 / 2432902008176640000.0,
+                                 1.0 / 51090942171709440000.0,
+                                 1.0 / 1124000727777607680000.0};
+  // The sign of the x^j term of either series.
+  constexpr auto sign = [](int j) { return (j / 2) % 2 == 0 ? 1.0 : -1.0; };
+  const double z = x * x;
+  // sin x = x Σ (−z)^k / (2k+1)!, cos x = Σ (−z)^k / (2k)! (Horner).
+  double ps = sign(kSinDegree) * kInvFact[kSinDegree];
+  double pc = sign(kSinDegree + 1) * kInvFact[kSinDegree + 1];
+  for (int j = kSinDegree - 2; j >= 1; j -= 2) ps = ps * z + sign(j) * kInvFact[j];
+  for (int j = kSinDegree - 1; j >= 0; j -= 2) pc = pc * z + sign(j) * kInvFact[j];
+  sn = x * ps;
+  cn = pc;
 }
 
 }  // namespace fairspline::detail

@@ -322,41 +322,6 @@ inline bool psd_block(double& a, double& b, double& c) {
   return true;
 }
 
-/// sin and cos of an angle offset. The offsets stay within ±Ω ≤ ±π/2 (the feasible boxes), where
-/// the Taylor series to degree 21/22 is exact to rounding ((π/2)^23/23! < 2e-18) and, unlike a
-/// libm call, vectorizes across nodes; other angles take the libm path.
-inline void sincos_poly(double x, double& sn, double& cn) {
-  const double z = x * x;
-  // sin x = x Σ (−z)^k / (2k+1)!, cos x = Σ (−z)^k / (2k)!, k = 0..10 / 0..11 (Horner).
-  double ps = 1.0 / 51090942171709440000.0;     // +1/21!
-  double pc = -1.0 / 1124000727777607680000.0;  // −1/22!
-  constexpr double kInvFact[] = {1.0,
-                                 1.0,
-                                 1.0 / 2,
-                                 1.0 / 6,
-                                 1.0 / 24,
-                                 1.0 / 120,
-                                 1.0 / 720,
-                                 1.0 / 5040,
-                                 1.0 / 40320,
-                                 1.0 / 362880,
-                                 1.0 / 3628800,
-                                 1.0 / 39916800,
-                                 1.0 / 479001600,
-                                 1.0 / 6227020800.0,
-                                 1.0 / 87178291200.0,
-                                 1.0 / 1307674368000.0,
-                                 1.0 / 20922789888000.0,
-                                 1.0 / 355687428096000.0,
-                                 1.0 / 6402373705728000.0,
-                                 1.0 / 121645100408832000.0,
-                                 1.0 / 2432902008176640000.0};
-  for (int j = 19; j >= 1; j -= 2) ps = ps * z + ((j / 2) % 2 == 0 ? 1.0 : -1.0) * kInvFact[j];
-  for (int j = 20; j >= 0; j -= 2) pc = pc * z + ((j / 2) % 2 == 0 ? 1.0 : -1.0) * kInvFact[j];
-  sn = x * ps;
-  cn = pc;
-}
-
 /// Segments per block of an evaluation: the cos and sin of a block's nodes live on the stack
 /// (an array of 2k of them was 16 bytes a node and a pass over memory per evaluation).
 constexpr std::size_t kEvalBlock = 256;
@@ -368,9 +333,9 @@ constexpr std::size_t kEvalBlock = 256;
 void sincos_block(std::span<const double> x, std::size_t first, std::size_t count, double* cs) {
   const std::size_t k = x.size(), direct = std::min(count, k - first);
   const double* xf = x.data() + first;
-  for (std::size_t q = 0; q < direct; ++q) sincos_poly(xf[q], cs[2 * q + 1], cs[2 * q]);
+  for (std::size_t q = 0; q < direct; ++q) detail::sincos_taylor(xf[q], cs[2 * q + 1], cs[2 * q]);
   for (std::size_t q = direct; q < count; ++q) {  // past the end of a closed chain: node 0, …
-    sincos_poly(x[q - direct], cs[2 * q + 1], cs[2 * q]);
+    detail::sincos_taylor(x[q - direct], cs[2 * q + 1], cs[2 * q]);
   }
   for (std::size_t q = 0; q < count; ++q) {
     const double v = q < direct ? xf[q] : x[q - direct];

@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <map>
+#include <new>
 #include <numbers>
 #include <span>
 #include <string>
 #include <utility>
 
+#include "detail/angles.hpp"
 #include "detail/choices.hpp"
 #include "detail/finite.hpp"
 #include "detail/huge_pages.hpp"
@@ -124,9 +127,12 @@ constexpr bool has_r(CohSymmetry s) {
 /// The symmetry acting on the end conditions (an involution; T and R commute), branch-free:
 /// R swaps the ends and conjugates, T conjugates.
 inline LocalData apply(CohSymmetry s, LocalData d) {
-  const bool r = has_r(s);
-  const Vec2 a = r ? d.u1 : d.u0, b = r ? d.u0 : d.u1;
-  const double sy = r != has_t(s) ? -1.0 : 1.0;
+  // Indexing instead of selects: the compiler turned `r ? u1 : u0` into a branch, which random
+  // data mispredicts half the time.
+  const unsigned r = has_r(s), flip = r ^ unsigned(has_t(s));
+  const std::array<Vec2, 2> ends{d.u0, d.u1};
+  const Vec2 a = ends[r], b = ends[r ^ 1u];
+  const double sy = 1.0 - 2.0 * flip;  // ±1: the products below are exact
   return {{a.x, sy * a.y}, {b.x, sy * b.y}};
 }
 
@@ -200,9 +206,21 @@ TrigStep trig_step(CohMethod m, const LocalData& d) {
 }
 
 inline double step_angle(const TrigStep& t) {
-  double a = std::atan2(t.w.y, t.w.x);
+  double a = detail::atan2_fast(t.w.y, t.w.x);
   if (a < t.wrap) a += 2.0 * kPi;
   return a / t.k;
+}
+
+/// e^{iϕ} for a step angle ϕ (in [0, 2π/3] for every construction's region): the Taylor
+/// polynomials about π/3 turned by e^{iπ/3} = (1/2, √3/2), within a few ulp of libm's sincos at
+/// a fraction of its cost; angles beyond the polynomials' range go to libm.
+inline Vec2 step_rotation(double phi) {
+  constexpr double kThirdPiHi = 1.0471975511965979, kThirdPiLo = -1.072081766451091e-16;
+  const double x = (phi - kThirdPiHi) - kThirdPiLo;
+  if (!(std::abs(x) <= 1.05)) return expi(phi);
+  double s = 0.0, c = 1.0;
+  detail::sincos_taylor<17>(x, s, c);  // 1.05^19/19! = 2e-17
+  return {0.5 * c - kCos30 * s, 0.5 * s + kCos30 * c};
 }
 
 // M1, (θ, φ) ∈ [0, π/6] × [π/3, 2π/3]: |TP1| = |P0P1|/3 with ∠(TP1, V1) = φ/2; V_t bisects
@@ -348,7 +366,8 @@ void apply_in_place(CohSymmetry s, Polygon& p) {
 /// mispredict every branch here.
 inline CohSymmetry canonical(LocalData d) {
   const unsigned swap = d.u0.x > d.u1.x;  // |φ| > |θ|: R or RT
-  const unsigned t = swap ? unsigned(d.u1.y >= 0.0) : unsigned(d.u0.y < 0.0);
+  // Masks, not `swap ? … : …`, which the compiler made a branch.
+  const unsigned t = (unsigned(d.u1.y >= 0.0) & swap) | (unsigned(d.u0.y < 0.0) & (swap ^ 1u));
   return static_cast<CohSymmetry>(t | (swap << 1));
 }
 
@@ -440,12 +459,16 @@ void realize(CohChoice c, const Polygon& p, const Frame& f, CohCurve& out) {
   out.symmetry = c.symmetry;
   out.count = p.count;
   out.preserved = true;
-  const double len = norm(f.d);  // hypot: the square of a chord of 1e300 overflows
+  // sqrt of the squared length where that cannot overflow or underflow (within an ulp of
+  // hypot's, at a fraction of its cost), else hypot: the square of a chord of 1e300 overflows.
+  const double n2 = norm2(f.d);
+  const double len = n2 >= 0x1p-1000 && n2 <= 0x1p1000 ? std::sqrt(n2) : norm(f.d);
+  Point b3 = f.to_world(p.q[0]);
   for (int k = 0; k < p.count; ++k) {
     const Vec2 q = p.q[k + 1] - p.q[k];
     const OghCoefficients mk = ogh_magnitudes(q, p.u[k], p.u[k + 1]);
-    const Point b0 = f.to_world(p.q[k]);
-    const Point b3 = f.to_world(p.q[k + 1]);
+    const Point b0 = b3;  // the joint, mapped once for both pieces
+    b3 = f.to_world(p.q[k + 1]);
     const Point b1 = f.to_world(p.q[k] + (mk.a0 * kThird) * p.u[k]);
     const Point b2 = f.to_world(p.q[k + 1] - (mk.a1 * kThird) * p.u[k + 1]);
     out.pieces[k] = {{b0, b1, b2, b3}};
@@ -498,7 +521,11 @@ inline unsigned key(CohChoice c) {
 template <std::size_t kCap = kEndBlock, typename Pick>
 [[gnu::flatten]] void construct_block(const HermiteEnds* ends, std::size_t n,
                                       std::size_t index_base, Pick&& pick, CohCurve* out) {
-  std::array<Work, kCap> w;
+  // Work is an implicit-lifetime aggregate, so bytes hold its objects without the zero-fill
+  // that its members' initializers would cost (a few percent of a dispatch); every member is
+  // written below before it is read.
+  alignas(Work) std::byte storage[sizeof(Work) * kCap];
+  Work* const w = std::launder(reinterpret_cast<Work*>(storage));
   for (std::size_t i = 0; i < n; ++i) {
     check_ends(ends[i], index_base + i);
     Work& x = w[i];
@@ -506,6 +533,7 @@ template <std::size_t kCap = kEndBlock, typename Pick>
     x.c = pick(x.d);
     if (x.c.method == CohMethod::kM0) x.c.symmetry = CohSymmetry::kNone;
     x.b = apply(x.c.symmetry, x.d);
+    x.r = {1.0, 0.0};
   }
   // Visit the items grouped by construction (a counting sort on method and symmetry): the
   // per-construction branches below then run in predictable streaks.
@@ -519,7 +547,7 @@ template <std::size_t kCap = kEndBlock, typename Pick>
   for (std::size_t j = 0; j < n; ++j) {
     Work& x = w[order[j]];
     const TrigStep t = trig_step(x.c.method, x.b);
-    if (t.k != 0.0) x.r = expi(step_angle(t));
+    if (t.k != 0.0) x.r = step_rotation(step_angle(t));
   }
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t i = order[j];
