@@ -33,7 +33,9 @@ namespace {
 constexpr double kBoxRounding = 1e-12;
 
 double wrap(double a) {
-  return std::remainder(a, 2.0 * kPi);
+  // remainder() returns a itself for |a| <= π (the quotient rounds to 0, ties to even), and
+  // costs ~40 ns: a tenth of a large data-ball fit went there.
+  return std::abs(a) <= kPi ? a : std::remainder(a, 2.0 * kPi);
 }
 
 // A quantity with its first and second derivatives with respect to up to four unknowns.
@@ -2012,7 +2014,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       auto take = [&](int k, Vec2 d) {
         if (k < 0 || pb.slot[k].fixed || keep[static_cast<std::size_t>(k)]) return;
         Slot& sl = pb.slot[k];
-        sl.theta += std::remainder(std::atan2(d.y, d.x) - sl.theta, 2 * kPi);
+        sl.theta += wrap(std::atan2(d.y, d.x) - sl.theta);
         sl.active = -1;
       };
       if (has_prev) take(nd.in, got[prev][1]);
