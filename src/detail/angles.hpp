@@ -67,7 +67,8 @@ inline double atan2_right(double y, double x) {
 
 /// atan2(y, x) in [−π, π] from atan2_right: for x < 0 it is ±π (y's sign) minus the angle of
 /// the mirror image (−x, y) from the axis, π split in two doubles. Within ~2 ulp of the
-/// exact angle (tests/angles_test.cpp). For finite arguments (NaN in gives NaN).
+/// exact angle (tests/angles_test.cpp). For finite arguments (NaN in gives NaN); (±0, −0)
+/// gives ±0 where libm gives ±π (callers pass unit vectors).
 inline double atan2_fast(double y, double x) {
   if (!(x < 0.0)) return atan2_right(y, x);
   constexpr double kPiHi = 3.14159265358979311600e0, kPiLo = 1.22464679914735320717e-16;

@@ -769,7 +769,8 @@ const Capabilities& yong_cheng_capabilities() {
 }
 
 /// The tangent vector at every point (prepare_input has checked that each has one).
-void collect_tangents(const FitInput& input, std::size_t n, std::span<Vec2> v) {
+void collect_tangents(const FitInput& input, std::span<Vec2> v) {
+  const std::size_t n = v.size();
   std::fill(v.begin(), v.end(), Vec2{});
   for (std::size_t i = 0; i < std::min(input.tangents.size(), n); ++i) {
     if (input.tangents[i]) v[i] = *input.tangents[i];
@@ -953,11 +954,11 @@ void fit_yong_cheng(const FitInput& input, const YongChengOptions& options, Repo
       detail::prepare_input(input, yong_cheng_capabilities(), "yong-cheng", out);
   const std::size_t n = out.points.size();
   // The given tangents go into the result's tangents as they are (the constructions read them)
-  // and are normalized there after the spans: a vector of their own was 16 MB of fresh pages a
-  // fit at 10⁶ points, a sixth of `fit_into`'s time.
+  // and are normalized there after the spans: a vector of their own was 16 MB of fresh pages
+  // for a fresh 10⁶-point fit.
   out.spline.closed = out.closed;
   detail::resize_huge(out.tangents, n);
-  collect_tangents(input, n, out.tangents);
+  collect_tangents(input, out.tangents);
   const std::vector<Vec2>& v = out.tangents;
   std::uint64_t bad = 0;  // non-finite output (the registry leaves the check to the method)
 
