@@ -169,9 +169,6 @@ const std::set<std::string> kOpen = {
     // Kozak-Krajnc G2 with three pieces and near-repeated pairs: the admissible directions are
     // narrower than the chain scan's cells, so it decides nothing (docs/hardening.md).
     "kozak-krajnc-not_converged-s18-c18.json",
-    // A G2 spline exists (ξ1 = 0.0570, ξ2 = 0.9428: Newton from random starts reaches it), the
-    // chain scan passes chains but none of its starts reaches it.
-    "kozak-krajnc-not_converged-s18-c17687.json",
     // Two pieces: the jump at T3 changes sign at ξ1 = 3.9e-4, but a piece's handles are 10⁷
     // times its chord there and the jump moves in steps of ~4e-5 with the direction's last bits,
     // so no polish gets below 2.6e-5 (docs/hardening.md).

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "detail/choices.hpp"
@@ -1310,6 +1312,11 @@ constexpr std::size_t kChainRefineBudget = 3;
 /// parts and the grid scanned again, at most kChainRounds times.
 constexpr int kChainSplit = 8;
 constexpr int kChainRounds = 3;
+/// Newton starts drawn at random in the cones where the chain scan neither proved that (1.4)
+/// has no solution nor reached one from its chains: half uniform in each unknown's cone, half
+/// within 10^-6..1 of the G1 spline's ξ (a fixed seed: the same input gives the same result).
+constexpr int kRandomStarts = 64;
+constexpr std::uint64_t kRandomSeed = 0x6b6b2d67322d7273;
 
 /// A closed interval of scaled curvatures.
 struct CurvatureRange {
@@ -1729,6 +1736,46 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       }
       if (!rescan(refined)) break;
     }
+    // (Also after a start that reached the iteration limit, as the three starts above are
+    // tried: the limit is per Newton run. s18-c17687: the G1 start stops at the limit, a
+    // random one converges in 7 iterations.)
+    const bool random = !o.rep.converged && (chain.feasible || !chain.resolved);
+    if (random) {
+      std::mt19937_64 rng(kRandomSeed);
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      for (int k = 0; k < kRandomStarts && !o.rep.converged; ++k) {
+        std::vector<double> x = d.xi;
+        for (std::size_t l = 1; l < m; ++l) {
+          if (pinned[l]) continue;
+          if (k % 2 == 0) {
+            x[l] = unit(rng);
+          } else {  // towards either edge of the cone by 10^-6..1 of the way
+            const double step = std::pow(10.0, -6.0 * unit(rng));
+            x[l] = unit(rng) < 0.5 ? d.xi[l] * (1.0 - step) : d.xi[l] + (1.0 - d.xi[l]) * step;
+          }
+          if (!(x[l] > 0.0 && x[l] < 1.0)) x[l] = d.xi[l];
+        }
+        std::vector<PieceFit> fit(m + 1);
+        bool ok = true;
+        G2Report attempt;
+        try {
+          for (std::size_t l = 1; l <= m && ok; ++l) {
+            ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), nullptr,
+                             fit[l]);
+          }
+          if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
+        } catch (const Error&) {
+          ok = false;
+        }
+        if (ok && attempt.converged) {
+          d.xi = x;
+          pieces = std::move(fit);
+          d.in_xi = in_swept_sets(d.sw, d.xi);
+          o.rep = attempt;
+          o.start = "random";
+        }
+      }
+    }
     const std::string splits = rounds == 1 ? "once" : std::to_string(rounds) + " times";
     scan_note =
         !chain.feasible
@@ -1739,6 +1786,10 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
                   " chains of cells where a solution may lie (their cells split " + splits +
                   (o.rep.at_cap ? "), not tried as starts since the iteration limit was reached"
                                 : "), and Newton from each stopped short of it");
+    if (random && !o.rep.converged) {
+      scan_note += "; Newton from " + std::to_string(kRandomStarts) +
+                   " random starts in the cones stopped short too";
+    }
     if (!chain.feasible && chain.resolved && !options.best_effort) {
       const std::size_t at = 3 * chain.first_empty;
       throw Error(ErrorCode::kInfeasible,
