@@ -1697,33 +1697,36 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
     // whole grid scanned again, at most kChainRounds times. Each scan covers all of (0, 1), so
     // a scan where no chain passes is a claim at its own (finer) resolution.
     int rounds = 0;
+    // Newton from x (each piece on the branch nearest `branch`, if given): kept if it converges.
+    const auto start_at = [&](std::vector<double> x, const std::vector<ParameterPair>* branch,
+                              const char* name) {
+      std::vector<PieceFit> fit(m + 1);
+      bool ok = true;
+      G2Report attempt;
+      try {  // a start near a cone's edge can lead Newton onto a chord: (2.6) degenerates
+        for (std::size_t l = 1; l <= m && ok; ++l) {
+          PieceFit near;
+          if (branch) near.s.t1 = (*branch)[l].t1, near.s.t2 = (*branch)[l].t2;
+          ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]),
+                           branch ? &near : nullptr, fit[l]);
+        }
+        if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
+      } catch (const Error&) {
+        ok = false;
+      }
+      if (!ok || !attempt.converged) return false;
+      d.xi = std::move(x);
+      pieces = std::move(fit);
+      d.in_xi = in_swept_sets(d.sw, d.xi);
+      o.rep = attempt;
+      o.start = name;
+      return true;
+    };
     for (;; ++rounds) {
       bool converged = false;
       for (std::size_t s = 0; chain.feasible && !o.rep.at_cap && s < chain.starts.size(); ++s) {
-        std::vector<double> x = chain.starts[s];
-        std::vector<PieceFit> fit(m + 1);
-        bool ok = true;
-        G2Report attempt;
-        try {  // a start near a cone's edge can lead Newton onto a chord: (2.6) degenerates
-          for (std::size_t l = 1; l <= m && ok; ++l) {
-            PieceFit near;
-            near.s.t1 = chain.start_branch[s][l].t1, near.s.t2 = chain.start_branch[s][l].t2;
-            ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), &near,
-                             fit[l]);
-          }
-          if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
-        } catch (const Error&) {
-          ok = false;
-        }
-        if (ok && attempt.converged) {
-          d.xi = x;
-          pieces = std::move(fit);
-          d.in_xi = in_swept_sets(d.sw, d.xi);
-          o.rep = attempt;
-          o.start = "chain-scan";
-          converged = true;
-          break;
-        }
+        converged = start_at(chain.starts[s], &chain.start_branch[s], "chain-scan");
+        if (converged) break;
       }
       // (At the iteration limit no start is tried, but finer grids may still prove infeasibility.)
       if (converged || !chain.feasible || rounds == kChainRounds) break;
@@ -1755,25 +1758,7 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
           }
           if (!(x[l] > 0.0 && x[l] < 1.0)) x[l] = d.xi[l];
         }
-        std::vector<PieceFit> fit(m + 1);
-        bool ok = true;
-        G2Report attempt;
-        try {
-          for (std::size_t l = 1; l <= m && ok; ++l) {
-            ok = solve_piece(g, l, direction(g, l - 1, x[l - 1]), direction(g, l, x[l]), nullptr,
-                             fit[l]);
-          }
-          if (ok) attempt = solve_g2(g, x, pinned, options.g2_max_iterations, fit);
-        } catch (const Error&) {
-          ok = false;
-        }
-        if (ok && attempt.converged) {
-          d.xi = x;
-          pieces = std::move(fit);
-          d.in_xi = in_swept_sets(d.sw, d.xi);
-          o.rep = attempt;
-          o.start = "random";
-        }
+        start_at(std::move(x), nullptr, "random");
       }
     }
     const std::string splits = rounds == 1 ? "once" : std::to_string(rounds) + " times";
