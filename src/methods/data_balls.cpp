@@ -346,6 +346,7 @@ struct Raw {
   std::vector<double> slot;
   std::vector<Vec2> node;
   std::vector<double> span;  // each span's energy E_1/L
+  double barrier = 0.0;      // the barrier's value (Solver::evaluate)
 };
 
 // Energy, reduced gradient and Hessian (scaled: unknown k times scale[k]) into `h` and `g`.
@@ -899,11 +900,11 @@ class Solver {
   }
 
   // The change of φ from the current point to trial_ and its rounding, summed span by span
-  // (each span's energy at the current point from the last evaluate()): a span whose end angles
-  // and chord did not change adds exactly 0. The difference of the totals carried the rounding
-  // of every span's energy, and beside a near-repeated pair (10^6 times the rest) that hid the
-  // decrease of a step elsewhere: s41-c830 stopped at the precision limit 10^3 times above the
-  // tolerance.
+  // (each span's energy and the barrier at the current point from the last evaluate()): a span
+  // whose end angles and chord did not change adds exactly 0. The difference of the totals carried
+  // the rounding of every span's energy, and beside a near-repeated pair (10^6 times the rest) that
+  // hid the decrease of a step elsewhere: s41-c830 stopped at the precision limit 10^3 times above
+  // the tolerance.
   std::pair<double, double> change(double mu) const {
     double d = 0.0, size = 0.0;
     for (std::size_t s = 0; s < ns_; ++s) {
@@ -914,9 +915,9 @@ class Solver {
       d += e1 - raw_.span[s];
       size += std::max(std::abs(e1), std::abs(raw_.span[s]));
     }
-    const double b1 = barrier(trial_, tst_, mu), b0 = barrier(pb_, st_, mu);
-    d += b1 - b0;
-    size += std::max(std::abs(b1), std::abs(b0));
+    const double b1 = barrier(trial_, tst_, mu);
+    d += b1 - raw_.barrier;
+    size += std::max(std::abs(b1), std::abs(raw_.barrier));
     return {d, relative_rounding_ * size};
   }
 
@@ -1096,7 +1097,8 @@ class Solver {
   double evaluate(double mu, std::size_t border, bool convex = false) {
     factored_ = false;
     double phi = assemble(pb_, st_, scale_, border, h_, g_, raw_, convex);
-    phi += barrier(pb_, st_, mu);
+    raw_.barrier = barrier(pb_, st_, mu);
+    phi += raw_.barrier;
     const double om = pb_.omega;
     for (const Slot& sl : pb_.slot) {
       for (int k = 0; k < sl.nbox; ++k) {

@@ -1693,10 +1693,6 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
     };
     // Unresolved: the grid again, with nodes converging on the G1 spline's directions.
     const bool refined = !chain.feasible && !chain.resolved && rescan(true);
-    // Passing chains whose starts all fail: their cells are split (kChainSplit parts) and the
-    // whole grid scanned again, at most kChainRounds times. Each scan covers all of (0, 1), so
-    // a scan where no chain passes is a claim at its own (finer) resolution.
-    int rounds = 0;
     // Newton from x (each piece on the branch nearest `branch`, if given): kept if it converges.
     const auto start_at = [&](std::vector<double> x, const std::vector<ParameterPair>* branch,
                               const char* name) {
@@ -1722,6 +1718,10 @@ G2Outcome g2_stage(const Prepared& p, const KozakKrajncOptions& options, Directi
       o.start = name;
       return true;
     };
+    // Passing chains whose starts all fail: their cells are split (kChainSplit parts) and the
+    // whole grid scanned again, at most kChainRounds times. Each scan covers all of (0, 1), so
+    // a scan where no chain passes is a claim at its own (finer) resolution.
+    int rounds = 0;
     for (;; ++rounds) {
       bool converged = false;
       for (std::size_t s = 0; chain.feasible && !o.rep.at_cap && s < chain.starts.size(); ++s) {
