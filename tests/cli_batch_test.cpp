@@ -276,6 +276,46 @@ TEST_F(CliBatch, ReadsStandardInput) {
   EXPECT_EQ(parse_lines(from_stdin.out).size(), 58u);  // lines 23 and 46 are skipped
 }
 
+TEST_F(CliBatch, ReadsAheadAcrossTheBlocksOfAFile) {
+  // 9000 lines are three blocks of 4096. From a regular file the next block is read while this
+  // one is fitted; from a pipe it is read after. Both give the same records, in order, with the
+  // skipped and failing lines where they are, on one thread or two.
+  std::string text;
+  std::size_t expected = 0;
+  for (std::size_t line = 1; line <= 9000; ++line) {
+    if (line % 1000 == 0) {
+      text += line % 2000 == 0 ? "# comment\n" : "\n";
+      continue;
+    }
+    json request = walk_request(3 + line % 4, line);
+    if (line % 997 == 0) request["points"][1] = request["points"][0];  // repeated point
+    text += request.dump() + "\n";
+    ++expected;
+  }
+  const fs::path in = file("blocks.jsonl", text);
+  const std::string args = " -m jaklic-zagar --report none";
+  const CliRun from_file = run("batch " + quote(in.string()) + args + " --threads 2");
+  const CliRun one = run("batch " + quote(in.string()) + args + " --threads 1");
+  const CliRun piped =
+      run_program("sh", "-c " + quote("cat " + quote(in.string()) + " | " + quote(FAIRSPLINE_CLI) +
+                                      " batch -" + args + " --threads 2"));
+  EXPECT_EQ(from_file.exit_code, 1);
+  EXPECT_EQ(from_file.err,
+            "fairspline batch: 9 of " + std::to_string(expected) + " records failed\n");
+  const std::vector<json> records = parse_lines(from_file.out);
+  ASSERT_EQ(records.size(), expected);
+  std::size_t k = 0;
+  for (std::size_t line = 1; line <= 9000; ++line) {
+    if (line % 1000 == 0) continue;
+    ASSERT_EQ(records[k]["line"], line);
+    EXPECT_EQ(records[k].contains("error"), line % 997 == 0) << line;
+    ++k;
+  }
+  EXPECT_TRUE(one.out == from_file.out);
+  EXPECT_EQ(piped.exit_code, 1);
+  EXPECT_TRUE(piped.out == from_file.out);
+}
+
 TEST_F(CliBatch, RecordsEqualFitOutput) {
   // Each method on one curve: `fit` of the request file and the batch record agree exactly
   // (doubles compared after parsing both), apart from the added "line": both are
