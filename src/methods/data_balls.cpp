@@ -289,11 +289,11 @@ std::size_t number_unknowns(Problem& pb, std::vector<double>& scale, bool positi
   };
   for (Slot& sl : pb.slot) sl.var = -1;
   const std::size_t n = pb.node.size();
-  const std::size_t cut = pb.closed && n > 3 ? 2 : 0;
-  const std::size_t c = cut ? border_start(pb) : 0;
-  for (std::size_t k = cut; k < n; ++k) visit((c + k) % n);
+  const std::size_t border_nodes = pb.closed && n > 3 ? 2 : 0;
+  const std::size_t c = border_nodes ? border_start(pb) : 0;
+  for (std::size_t k = border_nodes; k < n; ++k) visit((c + k) % n);
   const std::size_t band = scale.size();
-  for (std::size_t k = 0; k < cut; ++k) visit((c + k) % n);
+  for (std::size_t k = 0; k < border_nodes; ++k) visit((c + k) % n);
   return scale.size() - band;
 }
 
