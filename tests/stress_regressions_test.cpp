@@ -116,6 +116,10 @@ const std::vector<std::string> kInputs = {
     // Four points beside a near-repeated pair, whose energy's rounding hid the last steps'
     // decrease: the stop for flat steps took each new best residual as no progress.
     "quasi-elastic-balls-not_converged-s41-c940.json",
+    // A direction on one bound of its box with the other box held at its bound too (a stencil
+    // turning 2Ω): the energy's torque alone read as a wrong-signed multiplier (1.27), whose
+    // release gave a step that left a box at every length, stall after stall.
+    "quasi-elastic-balls-not_converged-s45-c1354.json",
     // A direction on one bound of its box whose other box (held by the barrier) was pressed
     // to the room's rounding floor, where the barrier could not hold its multiplier: the
     // residual stayed at 0.26 … 3.8 until the iteration limit.

@@ -763,7 +763,10 @@ class Solver {
       return now;
     };
     damping_ = 0.0;
+    vertex_.assign(pb_.slot.size(), 0);
+    Problem before_release;
     for (;; ++o.iterations) {
+      released_.clear();
       // (Not for the elastic spline: across its ridges the polish's line searches over
       // root-found energies took a 320-point U-turn circle from 2.6 to 38 s.)
       if (mu == 0.0 && (o.iterations == 0 || shift_ > 0.0) &&
@@ -802,6 +805,7 @@ class Solver {
       // the projected gradient elsewhere stayed at 2.1).
       stuck = pg >= 0.9 * best_pg ? stuck + 1 : 0;
       const double free_at = stuck >= kStuckIterations ? target : std::max(target, pg);
+      if (wrong > free_at) before_release = pb_;
       if (wrong > free_at && release(free_at)) {
         stuck = 0;
         border = number_unknowns(pb_, scale_);
@@ -864,6 +868,7 @@ class Solver {
         t = mu == 0.0 && t == 1.0 && cross < 1.0 && cross > 1e-3 ? cross : 0.5 * t;
       }
       if (!accepted) {
+        if (mu == 0.0 && at_vertex(before_release)) continue;
         o.stalled = true;
         if (mu == 0.0 && release_strict(o, best, best_st, best_o, target)) {
           o.stalled = false;
@@ -1118,7 +1123,9 @@ class Solver {
     raw_.barrier = barrier(pb_, st_, mu);
     phi += raw_.barrier;
     const double om = pb_.omega;
-    for (const Slot& sl : pb_.slot) {
+    held_torque_.assign(pb_.slot.size(), 0.0);
+    for (std::size_t si = 0; si < pb_.slot.size(); ++si) {
+      const Slot& sl = pb_.slot[si];
       for (int k = 0; k < sl.nbox; ++k) {
         const double w = box_weight(sl, k, mu);
         if (w == 0.0) continue;
@@ -1131,7 +1138,9 @@ class Solver {
         const double x = box_deviation(sl, k, st_);
         const double lo = std::max(om + x, kBoxRounding * om),
                      hi = std::max(om - x, kBoxRounding * om);
-        add_function(dev, w * (1.0 / hi - 1.0 / lo), w * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
+        const double torque = w * (1.0 / hi - 1.0 / lo);
+        add_function(dev, torque, w * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
+        if (sl.active >= 0) held_torque_[si] += torque;
       }
     }
     // The elastic spline's pair bounds |α − β| = |θ_i + corner − θ_j| <= π, as the held boxes:
@@ -1208,8 +1217,11 @@ class Solver {
       for (int s : {nd.in, nd.out}) {
         if (s < 0 || pb_.slot[s].active < 0) continue;
         const Slot& sl = pb_.slot[s];
-        slot_strict_[s] = gscale_ * st_.len[sl.span[sl.active]] / over * sl.sign * raw_.slot[s];
-        slot_wrong_[s] = std::max(slot_wrong_[s], f * pb_.slot[s].sign * raw_.slot[s]);
+        // The multiplier of its bound: the energy's torque, plus at a vertex (below) that of
+        // the barrier on its other box, which stands in for that box's multiplier there.
+        const double torque = raw_.slot[s] + (vertex_[s] ? held_torque_[s] : 0.0);
+        slot_strict_[s] = gscale_ * st_.len[sl.span[sl.active]] / over * sl.sign * torque;
+        slot_wrong_[s] = std::max(slot_wrong_[s], f * sl.sign * torque);
         here = std::max(here, slot_wrong_[s]);
         if (slot_wrong_[s] > wrong) {
           wrong = slot_wrong_[s];
@@ -1380,12 +1392,32 @@ class Solver {
     return true;
   }
 
+  // A direction on one bound of its box whose other box is held at its own bound (a stencil
+  // turning 2Ω) has the held barrier's torque as that box's multiplier: the energy's torque
+  // alone can read as a wrong sign there, and releasing the bound gives a step that no length
+  // of it can take. When no step was found after this iteration's release, the released
+  // directions whose torque with the barrier's has the right sign go back onto their bound as
+  // vertices, judged with it from then on. Only then: where a step is found, releasing the
+  // vertex is how the positions open the stencil (docs/hardening.md).
+  bool at_vertex(Problem& before) {
+    bool any = false;
+    for (const auto& [k, pressed] : released_) {
+      if (vertex_[k] || pressed > 0.0) continue;
+      vertex_[k] = 1;
+      any = true;
+    }
+    if (any) std::swap(pb_, before);
+    return any;
+  }
+
   // Frees every constraint whose multiplier has the wrong sign by more than `target`.
   bool release(double target) {
     bool any = false;
+    released_.clear();
     for (std::size_t k = 0; k < pb_.slot.size(); ++k) {
       if (slot_wrong_[k] > target) {
         pb_.slot[k].active = -1;
+        released_.emplace_back(k, pb_.slot[k].sign * (raw_.slot[k] + held_torque_[k]));
         any = true;
       }
     }
@@ -1551,6 +1583,11 @@ class Solver {
   double tol_ = 0.0, raw_residual_ = 0.0, unresolved_ = 0.0;
   int max_iterations_ = 200;
   std::vector<double> scale_, g_, step_, slot_wrong_, node_wrong_;
+  std::vector<double> held_torque_;  // per slot on a bound: its held box's barrier's torque
+  std::vector<char> vertex_;         // per slot: on a bound, its other box held at its own
+  // The slots this iteration's release() freed, each with its torque and the held barrier's
+  // (times the sign of its bound: > 0 is a wrong sign).
+  std::vector<std::pair<std::size_t, double>> released_;
   std::vector<double> slot_strict_;    // per slot: its multiplier's wrong sign, span-scaled
   std::vector<char> strict_released_;  // per slot: released by release_strict this solve
   std::vector<char> held_;
