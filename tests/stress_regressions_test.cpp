@@ -120,6 +120,11 @@ const std::vector<std::string> kInputs = {
     // turning 2Ω): the energy's torque alone read as a wrong-signed multiplier (1.27), whose
     // release gave a step that left a box at every length, stall after stall.
     "quasi-elastic-balls-not_converged-s45-c1354.json",
+    // Shifted Newton steps that each lowered the energy by nearly their whole first-order
+    // decrease, 1e-13 … 1e-7 of it per step, to the iteration cap: a valley along which the
+    // energy is nearly linear. Now such a step is doubled while the energy falls further.
+    "quasi-elastic-balls-not_converged-s41-c1059.json",
+    "quasi-elastic-balls-not_converged-s41-c1920.json",
     // A direction on one bound of its box whose other box (held by the barrier) was pressed
     // to the room's rounding floor, where the barrier could not hold its multiplier: the
     // residual stayed at 0.26 … 3.8 until the iteration limit.

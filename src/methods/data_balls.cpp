@@ -547,6 +547,8 @@ constexpr double kConditioningResidual = 1e-6;
 /// Iterations without the projected gradient falling below 0.9 of its best after which
 /// multipliers of the wrong sign are released whatever the projected gradient.
 constexpr int kStuckIterations = 10;
+/// The longest step expand() tries, in Newton steps.
+constexpr double kMostExpansion = 1024.0;
 
 /// The first barrier of a restart after a stall: weak enough to keep the point near where it
 /// stalled, strong enough to pull the positions off their circles and re-decide which hold.
@@ -876,6 +878,8 @@ class Solver {
         }
         return stop(o);
       }
+      const bool expanded = mu == 0.0 && t == 1.0 && stuck >= kStuckIterations && expand();
+      if (expanded) t = expansion_;
       // Where the energy cannot tell the step from no step, the KKT residual judges it.
       auto [de, rnd] = change(mu);
       bool shortened = false;
@@ -896,6 +900,8 @@ class Solver {
       // nothing about how well the model predicted it.)
       if (shortened) {
         damping_ = shift_ / 4.0;
+      } else if (expanded) {
+        damping_ = shift_ / (4.0 * t);
       } else {
         adapt_damping(t, -de);
       }
@@ -920,6 +926,33 @@ class Solver {
         return stop(o);
       }
     }
+  }
+
+  // A shifted full step that lowered the energy by nearly all its first-order decrease, while
+  // the residual has not fallen for kStuckIterations steps: the energy is nearly linear along
+  // it, and the shift (negative curvature elsewhere, by a hair) kept the step short. Doubled
+  // (up to 1024 times) while the energy falls further; trial_ becomes the longest such step
+  // and expansion_ its length. Without it such fits crept to the iteration cap. Not for the
+  // elastic bases, whose root-found energies make the test noisier (no gain measured there).
+  bool expand() {
+    if (!(shift_ > 0.0) || is_elastic(pb_.m.basis)) return false;
+    double best = change(0.0).first;
+    if (!(best <= 0.9 * slope_)) return false;
+    Problem keep = trial_;
+    State keep_st = tst_;
+    expansion_ = 1.0;
+    for (double t = 2.0; t <= kMostExpansion; t *= 2.0) {
+      if (!move(t, 0.0)) break;
+      const auto [de, rnd] = change(0.0);
+      if (!std::isfinite(de) || !(de < best - rnd)) break;
+      best = de;
+      keep = trial_;
+      keep_st = tst_;
+      expansion_ = t;
+    }
+    std::swap(trial_, keep);
+    std::swap(tst_, keep_st);
+    return expansion_ > 1.0;
   }
 
   // The change of φ from the current point to trial_ and its rounding, summed span by span
@@ -1596,8 +1629,9 @@ class Solver {
   Problem trial_;
   State tst_;
   double shift_ = 0.0, slope_ = 0.0, step_sq_ = 0.0;
-  double damping_ = 0.0;   // the Levenberg–Marquardt shift carried between iterations
-  bool factored_ = false;  // h_ holds its own factor at shift 0
+  double expansion_ = 1.0;  // the length of the step expand() took
+  double damping_ = 0.0;    // the Levenberg–Marquardt shift carried between iterations
+  bool factored_ = false;   // h_ holds its own factor at shift 0
 };
 
 // Collinear-capable data: an open curve whose discs a straight line passes through in order
