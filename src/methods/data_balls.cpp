@@ -1446,7 +1446,6 @@ class Solver {
   // Frees every constraint whose multiplier has the wrong sign by more than `target`.
   bool release(double target) {
     bool any = false;
-    released_.clear();
     for (std::size_t k = 0; k < pb_.slot.size(); ++k) {
       if (slot_wrong_[k] > target) {
         pb_.slot[k].active = -1;
