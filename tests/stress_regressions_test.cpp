@@ -141,6 +141,10 @@ const std::vector<std::string> kInputs = {
     // that shifts of 1e2..1e4 (negative curvature elsewhere) moved 5e-10 r per step.
     "quasi-elastic-balls-not_converged-noisy-s1-c307.json",
     "quasi-elastic-balls-not_converged-noisy-s3-c165.json",
+    // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball, and the
+    // elastic spline through a 160-point noisy ellipse whose pieces turn past a right angle.
+    "quasi-elastic-balls-not_converged-s45-c742.json",
+    "elastic-balls-not_converged-noisy-s6-c97.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-kkt-s41-c1062.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
@@ -182,6 +186,14 @@ const std::set<std::string> kOpen = {
     // times its chord there and the jump moves in steps of ~4e-5 with the direction's last bits,
     // so no polish gets below 2.6e-5 (docs/hardening.md).
     "kozak-krajnc-not_converged-s40-c7446.json",
+    // Data balls at a vertex (a direction on one bound, its other box held 5e-8·Ω from its
+    // own, both neighbours' balls on their circles): at the barrier's cross-over the held box's
+    // force no longer balances the free ball beside it, and the Newton matrix needs shifts of
+    // 1e8 … 1e16 (docs/hardening.md, "Where it stands, read again").
+    "quasi-elastic-balls-not_converged-s45-c742.json",
+    // The elastic spline with balls where pieces turn past a right angle: the ball optimizer
+    // has no lock for the energy's ridges (docs/hardening.md, same section).
+    "elastic-balls-not_converged-noisy-s6-c97.json",
 };
 
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),
@@ -301,7 +313,7 @@ TEST_P(StressRegression, ConvergesToACertifiedOptimum) {
   const std::string why = failure_of(GetParam());
   if (kOpen.count(GetParam()) != 0) {
     if (why.empty()) FAIL() << "now passes: remove it from kOpen";
-    GTEST_SKIP() << "open in issue 18: " << why;
+    GTEST_SKIP() << "open (issues 18, 19): " << why;
   }
   EXPECT_EQ(why, "");
 }
