@@ -25,6 +25,7 @@
 #include <vector>
 
 #if defined(__GLIBC__)
+#include <dlfcn.h>
 #include <malloc.h>
 #endif
 
@@ -41,7 +42,7 @@
 #include "fairspline/io/paths.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
-#include "server.hpp"
+#include "serve_module.hpp"
 
 namespace fs = std::filesystem;
 using fairspline::Error;
@@ -423,17 +424,64 @@ std::string default_web_root() {
   return FAIRSPLINE_WEB_ROOT;
 }
 
-int run_serve(const fairspline::web::ServerOptions& options) {
-  fairspline::web::Server server(options);
-  const int port = server.bind();
-  if (port < 0) {
-    throw UsageError{Error(ErrorCode::kIoError, "cannot listen on " + options.host + ":" +
-                                                    std::to_string(options.port) +
-                                                    " (in use, or not a local address?)")};
+// The server's module (serve_module.hpp): next to this executable (the build tree), else where
+// it is installed relative to it (<prefix>/lib/fairspline), else the configured install path.
+// Opened only here, so that no other command loads the server's libraries.
+fairspline::web::ServeEntry open_serve_module() {
+  using fairspline::web::kServeModuleName;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> candidates;
+  if (!ec) {
+    candidates.push_back(exe.parent_path() / kServeModuleName);
+    candidates.push_back(exe.parent_path() / FAIRSPLINE_SERVE_MODULE_FROM_BINDIR /
+                         kServeModuleName);
   }
-  // The first line is machine-readable: tests and scripts read the port from it.
-  std::cout << "fairspline: serving http://" << options.host << ":" << port << "/" << std::endl;
-  return server.run() ? kExitOk : kExitFitError;
+  candidates.push_back(fs::path(FAIRSPLINE_SERVE_MODULE_INSTALL_DIR) / kServeModuleName);
+  std::string looked;
+  for (const fs::path& candidate : candidates) {
+    const fs::path path = candidate.lexically_normal();
+    if (!fs::is_regular_file(path, ec)) {
+      looked += (looked.empty() ? "" : ", ") + path.string();
+      continue;
+    }
+    void* module = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (module == nullptr) {
+      const char* why = dlerror();
+      throw Error(ErrorCode::kIoError, "cannot load the web server module " + path.string() + ": " +
+                                           (why ? why : "unknown reason"));
+    }
+    // (Kept loaded until the process ends: the server runs in it.)
+    if (void* entry = dlsym(module, fairspline::web::kServeEntryName)) {
+      return reinterpret_cast<fairspline::web::ServeEntry>(entry);
+    }
+    throw Error(ErrorCode::kIoError, "the web server module " + path.string() + " has no entry " +
+                                         fairspline::web::kServeEntryName);
+  }
+  throw Error(ErrorCode::kIoError, std::string("the web server module ") + kServeModuleName +
+                                       " is not installed (looked for " + looked + ")");
+}
+
+int run_serve(const fairspline::web::ServerOptions& options) {
+  fairspline::web::ServeEntry serve;
+  try {
+    serve = open_serve_module();
+  } catch (const Error& e) {
+    throw UsageError{e};
+  }
+  char message[1024] = {};
+  switch (serve(&options, message, sizeof message)) {
+    case fairspline::web::kServeStopped:
+      return kExitOk;
+    case fairspline::web::kServeCannotListen:
+      throw UsageError{Error(ErrorCode::kIoError, "cannot listen on " + options.host + ":" +
+                                                      std::to_string(options.port) +
+                                                      " (in use, or not a local address?)")};
+    case fairspline::web::kServeError:
+      throw Error(ErrorCode::kIoError, std::string("the web server stopped: ") + message);
+    default:
+      return kExitFitError;
+  }
 }
 
 /// --accuracy, --best-effort and --no-diagnostics, shared by fit and batch.

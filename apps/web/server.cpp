@@ -89,11 +89,6 @@ ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {
   return response;
 }
 
-std::size_t default_max_concurrent_fits() {
-  return std::max<std::size_t>(2,
-                               2 * static_cast<std::size_t>(std::thread::hardware_concurrency()));
-}
-
 // ---------------------------------------------------------------- FitRunner
 //
 // A slot is a worker thread: at most max_concurrent_fits of them, started when first needed and

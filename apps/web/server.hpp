@@ -3,16 +3,22 @@
 // Server binds and runs them over HTTP with cpp-httplib.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <thread>
 
 namespace fairspline::web {
 
 /// Default of ServerOptions::max_concurrent_fits: twice the hardware threads, at least 2.
-std::size_t default_max_concurrent_fits();
+/// (Inline: the command reads it for its help without linking the server.)
+inline std::size_t default_max_concurrent_fits() {
+  return std::max<std::size_t>(2,
+                               2 * static_cast<std::size_t>(std::thread::hardware_concurrency()));
+}
 
 struct ServerOptions {
   std::string host = "127.0.0.1";         ///< loopback only unless asked otherwise
