@@ -24,8 +24,9 @@
 #include <utility>
 #include <vector>
 
-#if defined(__GLIBC__)
 #include <dlfcn.h>
+
+#if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 
@@ -406,18 +407,27 @@ int run_bench(const BenchArgs& a) {
   return kExitOk;
 }
 
+// The directory of this executable (Linux: /proc/self/exe), where an installed command finds
+// the files installed with it.
+std::optional<fs::path> executable_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return std::nullopt;
+  return exe.parent_path();
+}
+
 // The default --root: the page installed next to this executable (<bindir>/
 // FAIRSPLINE_WEB_ROOT_FROM_BINDIR, i.e. <prefix>/share/fairspline/web), so that an installed
 // fairspline serves the page installed with it even where the source tree still exists; else
 // the source tree's apps/web/static (the build tree's executable); else the configured install
 // location (an executable copied elsewhere). Linux finds this executable via /proc/self/exe.
 std::string default_web_root() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const std::optional<fs::path> bindir = executable_dir();
   std::vector<fs::path> candidates;
-  if (!ec) candidates.push_back(exe.parent_path() / FAIRSPLINE_WEB_ROOT_FROM_BINDIR);
+  if (bindir) candidates.push_back(*bindir / FAIRSPLINE_WEB_ROOT_FROM_BINDIR);
   candidates.emplace_back(FAIRSPLINE_WEB_ROOT);
   candidates.emplace_back(FAIRSPLINE_WEB_INSTALL_ROOT);
+  std::error_code ec;
   for (const fs::path& dir : candidates) {
     if (fs::is_regular_file(dir / "index.html", ec)) return dir.lexically_normal().string();
   }
@@ -429,16 +439,14 @@ std::string default_web_root() {
 // Opened only here, so that no other command loads the server's libraries.
 fairspline::web::ServeEntry open_serve_module() {
   using fairspline::web::kServeModuleName;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   std::vector<fs::path> candidates;
-  if (!ec) {
-    candidates.push_back(exe.parent_path() / kServeModuleName);
-    candidates.push_back(exe.parent_path() / FAIRSPLINE_SERVE_MODULE_FROM_BINDIR /
-                         kServeModuleName);
+  if (const std::optional<fs::path> bindir = executable_dir()) {
+    candidates.push_back(*bindir / kServeModuleName);
+    candidates.push_back(*bindir / FAIRSPLINE_SERVE_MODULE_FROM_BINDIR / kServeModuleName);
   }
   candidates.push_back(fs::path(FAIRSPLINE_SERVE_MODULE_INSTALL_DIR) / kServeModuleName);
   std::string looked;
+  std::error_code ec;
   for (const fs::path& candidate : candidates) {
     const fs::path path = candidate.lexically_normal();
     if (!fs::is_regular_file(path, ec)) {
