@@ -2,9 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
+#include <cstdint>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "fairspline/registry.hpp"
 
@@ -27,6 +32,95 @@ unsigned resolve_threads(unsigned requested, std::size_t work_items) {
   return threads;
 }
 
+struct WorkerPool::State {
+  unsigned threads = 1;
+  std::mutex mutex;
+  std::condition_variable start, done;
+  std::uint64_t round = 0;  ///< bumped by run(): the workers' signal to start
+  bool stop = false;
+  unsigned running = 0;  ///< workers not yet finished with this round
+  const std::function<void(std::size_t)>* work = nullptr;
+  std::size_t count = 0, chunk = 1;
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::vector<std::thread> pool;
+
+  /// Takes chunks of the round until none is left; the first failure stops every thread at
+  /// its next chunk.
+  void drain() {
+    try {
+      for (;;) {
+        const std::size_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
+        if (begin >= count) return;
+        const std::size_t end = std::min(count, begin + chunk);
+        for (std::size_t i = begin; i < end; ++i) (*work)(i);
+      }
+    } catch (...) {
+      const std::lock_guard lock(mutex);
+      if (!failure) failure = std::current_exception();
+      next.store(count, std::memory_order_relaxed);
+    }
+  }
+
+  void serve() {
+    std::uint64_t seen = 0;
+    std::unique_lock lock(mutex);
+    for (;;) {
+      start.wait(lock, [&] { return stop || round != seen; });
+      if (stop) return;
+      seen = round;
+      lock.unlock();
+      drain();
+      lock.lock();
+      if (--running == 0) done.notify_one();
+    }
+  }
+};
+
+WorkerPool::WorkerPool(unsigned threads) : state_(std::make_unique<State>()) {
+  state_->threads = resolve_threads(threads, std::numeric_limits<std::size_t>::max());
+  state_->pool.reserve(state_->threads - 1);
+  for (unsigned t = 1; t < state_->threads; ++t) {
+    state_->pool.emplace_back([s = state_.get()] { s->serve(); });
+  }
+}
+
+WorkerPool::~WorkerPool() {
+  {
+    const std::lock_guard lock(state_->mutex);
+    state_->stop = true;
+  }
+  state_->start.notify_all();
+  for (std::thread& t : state_->pool) t.join();
+}
+
+unsigned WorkerPool::threads() const {
+  return state_->threads;
+}
+
+void WorkerPool::run(std::size_t count, const std::function<void(std::size_t)>& work) {
+  State& s = *state_;
+  if (s.threads == 1 || count <= 1) {
+    for (std::size_t i = 0; i < count; ++i) work(i);
+    return;
+  }
+  {
+    const std::lock_guard lock(s.mutex);
+    s.work = &work;
+    s.count = count;
+    s.chunk = chunk_size(count, s.threads);
+    s.next.store(0, std::memory_order_relaxed);
+    s.failure = nullptr;
+    s.running = s.threads - 1;
+    ++s.round;
+  }
+  s.start.notify_all();
+  s.drain();
+  std::unique_lock lock(s.mutex);
+  s.done.wait(lock, [&] { return s.running == 0; });
+  if (s.failure) std::rethrow_exception(std::exchange(s.failure, nullptr));
+}
+
 void parallel_for(std::size_t count, unsigned threads,
                   const std::function<void(std::size_t)>& work) {
   threads = resolve_threads(threads, count);
@@ -34,30 +128,7 @@ void parallel_for(std::size_t count, unsigned threads,
     for (std::size_t i = 0; i < count; ++i) work(i);
     return;
   }
-  const std::size_t chunk = chunk_size(count, threads);
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto worker = [&] {
-    try {
-      for (;;) {
-        const std::size_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
-        if (begin >= count) return;
-        const std::size_t end = std::min(count, begin + chunk);
-        for (std::size_t i = begin; i < end; ++i) work(i);
-      }
-    } catch (...) {
-      const std::lock_guard lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
-      next.store(count, std::memory_order_relaxed);  // the others stop at their next chunk
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
+  WorkerPool(threads).run(count, work);
 }
 
 std::vector<BatchOutcome> fit_many(std::span<const BatchJob> jobs, const BatchOptions& options) {

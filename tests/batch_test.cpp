@@ -1,8 +1,10 @@
 #include "fairspline/batch.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -75,6 +77,57 @@ TEST(Batch, ParallelForRethrowsTheFirstFailure) {
                               if (i == 500) throw std::runtime_error("boom");
                             }),
                std::runtime_error);
+}
+
+// Counts the threads that ever ran work of the pool tests below (one per thread's first item).
+std::atomic<int> pool_threads_started{0};
+struct CountThread {
+  CountThread() { pool_threads_started.fetch_add(1); }
+};
+
+TEST(Batch, WorkerPoolKeepsItsThreadsFromRoundToRound) {
+  WorkerPool pool(2);
+  ASSERT_EQ(pool.threads(), 2u);
+  const int before = pool_threads_started.load();
+  std::atomic<int> items_on_workers{0};
+  const std::thread::id caller = std::this_thread::get_id();
+  for (int round = 0; round < 50; ++round) {
+    std::vector<std::atomic<int>> seen(1000 + static_cast<std::size_t>(round));
+    pool.run(seen.size(), [&](std::size_t i) {
+      thread_local CountThread counted;
+      if (std::this_thread::get_id() != caller) {
+        items_on_workers.fetch_add(1);
+      } else if (round == 0) {  // the caller waits (at most 10 s) until the worker has an item
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (items_on_workers.load() == 0 && std::chrono::steady_clock::now() < until) {
+          std::this_thread::yield();
+        }
+      }
+      seen[i].fetch_add(1);
+    });
+    for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << round << " " << i;
+  }
+  // parallel_for would have started a thread per round: 51 thread_local objects, not 2.
+  EXPECT_LE(pool_threads_started.load() - before, 2);
+  EXPECT_GT(items_on_workers.load(), 0);  // the worker did take part
+}
+
+TEST(Batch, WorkerPoolRethrowsAndStaysUsable) {
+  WorkerPool pool(3);
+  EXPECT_EQ(pool.threads(), 3u);
+  EXPECT_GE(WorkerPool(0).threads(), 1u);
+  EXPECT_THROW(pool.run(1000,
+                        [](std::size_t i) {
+                          if (i % 100 == 7) throw std::runtime_error("boom");
+                        }),
+               std::runtime_error);
+  std::vector<std::atomic<int>> seen(777);
+  pool.run(seen.size(), [&](std::size_t i) { seen[i].fetch_add(1); });
+  for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << i;
+  int calls = 0;
+  pool.run(0, [&](std::size_t) { ++calls; });
+  pool.run(1, [&](std::size_t) { ++calls; });
+  EXPECT_EQ(calls, 1);
 }
 
 TEST(Batch, FitManyEqualsFitOneByOneInInputOrder) {

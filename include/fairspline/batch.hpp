@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -56,6 +57,31 @@ unsigned resolve_threads(unsigned requested, std::size_t work_items);
 /// the first exception is rethrown after all threads have stopped.
 void parallel_for(std::size_t count, unsigned threads,
                   const std::function<void(std::size_t)>& work);
+
+/// Threads kept for many rounds of parallel_for-like work: a caller that runs short rounds one
+/// after another (`fairspline batch`'s blocks of lines) starts its threads once instead of per
+/// round, and their thread_local state (reused results, the JSON writer's memo) stays warm.
+/// The thread that calls run() works too; one run() at a time.
+class WorkerPool {
+ public:
+  /// `threads` resolved as resolve_threads(threads, any number of items): 0 is every core.
+  explicit WorkerPool(unsigned threads = 0);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  /// The threads that share a run, the caller's included.
+  unsigned threads() const;
+
+  /// parallel_for's contract on this pool's threads: work(i) for every i in [0, count), in small
+  /// chunks; the first exception work throws is rethrown once every thread has stopped, and the
+  /// pool stays usable.
+  void run(std::size_t count, const std::function<void(std::size_t)>& work);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// Fits every job (fit() with the job's method and options and options.fit). A job that fails
 /// with fairspline::Error gets it in its outcome; the others are unaffected.
