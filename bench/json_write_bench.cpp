@@ -24,9 +24,9 @@ namespace {
 constexpr std::size_t kPoints = 200'000;
 
 const fairspline::FitResult& fitted() {
-  static const fairspline::FitResult r = fairspline::fit(
-      fairspline::default_method_name(), fairspline::bench::walk_input(kPoints), {},
-      fairspline::ReportLevel::kNone);
+  static const fairspline::FitResult r =
+      fairspline::fit(fairspline::default_method_name(), fairspline::bench::walk_input(kPoints), {},
+                      fairspline::ReportLevel::kNone);
   return r;
 }
 

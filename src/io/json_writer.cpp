@@ -782,8 +782,8 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
 /// are ever mapped in.
 std::size_t text_bound(const FitResult& r) {
   constexpr std::size_t kNumber = 25;  // "-1.2345678901234567e-308" and a separator
-  const std::size_t numbers = r.knots.size() + 2 * (r.points.size() + r.input.points.size() +
-                                                     r.tangents.size()) +
+  const std::size_t numbers = r.knots.size() +
+                              2 * (r.points.size() + r.input.points.size() + r.tangents.size()) +
                               10 * r.spline.segments.size();
   return kNumber * numbers + 48 * r.spline.segments.size() + 4096;
 }
