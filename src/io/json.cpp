@@ -209,12 +209,40 @@ class PathTracker : public nlohmann::json_sax<json> {
 
 constexpr int kMaxDepth = 64;
 
+/// Whether brackets outside strings nest deeper than `limit` anywhere in `text` (read as the
+/// parser lexes it up to any error: strings end at an unescaped quote).
+bool nests_deeper_than(std::string_view text, int limit) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit) return true;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return false;
+}
+
 /// Parses a JSON document with messages for people: line and column of a syntax error (index =
 /// line), the field of a number that overflows double (kNonFinite), a nesting limit.
 json parse_document(std::string_view text) {
   json doc;
   try {
-    // Reject absurd nesting early (messages and dumps of such values recurse).
+    // Reject absurd nesting early (messages and dumps of such values recurse). The parser with
+    // a callback does that, but it scans an array for discarded values at the end of each
+    // object in it: quadratic in a fit result's segments (40 000 points: 1.2 s against 0.23 s
+    // without). So it parses only texts that nest deeper than the limit, where it stops first.
     const json::parser_callback_t limit_depth = [](int depth, json::parse_event_t, json&) {
       if (depth > kMaxDepth) {
         throw Error(ErrorCode::kParseError,
@@ -222,7 +250,9 @@ json parse_document(std::string_view text) {
       }
       return true;
     };
-    doc = json::parse(text.begin(), text.end(), limit_depth);
+    // (A value at nesting k is reported at depth k: within the limit the callback never fires.)
+    doc = nests_deeper_than(text, kMaxDepth) ? json::parse(text.begin(), text.end(), limit_depth)
+                                             : json::parse(text.begin(), text.end());
   } catch (const json::out_of_range&) {
     // 406: a number too large for double ("1e999").
     PathTracker tracker;

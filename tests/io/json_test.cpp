@@ -216,6 +216,30 @@ TEST(JsonInput, DeepNestingIsRejectedWithoutCrashing) {
   EXPECT_TRUE(starts_with(bare.what(), "[1][0]: number")) << bare.what();
 }
 
+TEST(JsonInput, TheNestingLimitIsSixtyFourLevelsWithStringsSkipped) {
+  // The whole document nests `levels` deep: the request object, "options", then arrays around
+  // a number; brackets inside strings (escaped quotes included) do not count.
+  auto request = [](int levels) {
+    return R"({"points": [[0, 0], [1, 1]], "_note": "]]}\"]]]", "options": {"x": )" +
+           std::string(static_cast<std::size_t>(levels - 2), '[') + "1" +
+           std::string(static_cast<std::size_t>(levels - 2), ']') + "}}";
+  };
+  EXPECT_NO_THROW(detail::parse_json_input_dom(request(64)));
+  const Error e = expect_error([&] { detail::parse_json_input_dom(request(65)); });
+  EXPECT_EQ(e.code(), ErrorCode::kParseError);
+  EXPECT_NE(std::string(e.what()).find("nested deeper than 64 levels"), std::string::npos)
+      << e.what();
+  // A fit result is read by the same parser: its segments, each an object in one array, once
+  // made that quadratic. The limit still applies to it.
+  FitInput in;
+  in.points = {{0, 0}, {1, 1}, {2, 0}};
+  const FitResult r = fit("jaklic-zagar", in);
+  EXPECT_EQ(write_json(read_fit_result(write_json(r))), write_json(r));
+  const Error deep =
+      expect_error([&] { read_fit_result(std::string(70, '[') + std::string(70, ']')); });
+  EXPECT_EQ(deep.code(), ErrorCode::kParseError);
+}
+
 // ------------------------------------------------------------------ the fast reader
 
 /// What a reader made of a text: the request as JSON (round-trip digits, so bit for bit, -0.0

@@ -5,6 +5,9 @@
 //   json-write/stream/200000    io::write_json(result, stream) to a stream that drops the bytes
 //   json-write/ratio/200000     both alternated; counter string_over_stream, the best of each
 //                               (goal <= 1.25: a string's growth once cost 8 times the writing)
+//   json-read/fit-result/<n>    io::read_fit_result of that text for n-point walks (Python's
+//                               from_json and unpickling); linear in n (BigO): nlohmann's parser
+//                               with a callback made it quadratic in the segments
 #include <algorithm>
 #include <chrono>
 #include <limits>
@@ -59,6 +62,20 @@ std::size_t write_stream() {
   return buffer.bytes;
 }
 
+void bm_read(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const std::string text = fairspline::io::write_json(
+      fairspline::fit(fairspline::default_method_name(), fairspline::bench::walk_input(n), {},
+                      fairspline::ReportLevel::kNone));
+  for (auto _ : state) {
+    const fairspline::FitResult r = fairspline::io::read_fit_result(text);
+    benchmark::DoNotOptimize(r.spline.segments.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(text.size()));
+  state.SetComplexityN(static_cast<std::int64_t>(n));
+}
+
 template <std::size_t (*Write)()>
 void bm_write(benchmark::State& state) {
   std::size_t bytes = 0;
@@ -92,6 +109,12 @@ void bm_ratio(benchmark::State& state) {
   benchmark::RegisterBenchmark(name("stream").c_str(), bm_write<write_stream>)
       ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark(name("ratio").c_str(), bm_ratio)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("json-read/fit-result", bm_read)
+      ->Arg(10'000)
+      ->Arg(20'000)
+      ->Arg(40'000)
+      ->Complexity()
+      ->Unit(benchmark::kMillisecond);
   return true;
 }();
 
