@@ -26,13 +26,6 @@ std::string point_text(std::size_t i, Point p) {
 }
 }  // namespace
 
-bool coincident(Point a, Point b) {
-  // Distinguishable only if the difference exceeds a few ulps of the coordinates.
-  const double scale = std::max({std::abs(a.x), std::abs(a.y), std::abs(b.x), std::abs(b.y)});
-  const double tol = 4.0 * std::numeric_limits<double>::epsilon() * scale;
-  return std::abs(a.x - b.x) <= tol && std::abs(a.y - b.y) <= tol;
-}
-
 namespace {
 // Cheap pre-test for the loop over all points: a difference larger than 4 eps times the sum of
 // the coordinates' magnitudes (>= their max) can never be coincident.

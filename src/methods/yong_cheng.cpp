@@ -722,8 +722,9 @@ void coh_curves(std::span<const HermiteEnds> ends, std::span<CohCurve> out) {
                 "coh_curves: the output span is shorter than the input");
   }
   for (std::size_t i = 0; i < ends.size(); i += kEndBlock) {
-    construct_block(ends.data() + i, std::min(kEndBlock, ends.size() - i), i, choose,
-                    out.data() + i);
+    construct_block(
+        ends.data() + i, std::min(kEndBlock, ends.size() - i), i,
+        [](LocalData d) { return choose(d); }, out.data() + i);
   }
 }
 
