@@ -166,6 +166,42 @@ TEST_F(Cli, NoDiagnosticsKeepsTheMethodReportsSummary) {
   EXPECT_NE(bad.err.find("diagnostics: expected true or false"), std::string::npos) << bad.err;
 }
 
+TEST_F(Cli, FieldsWriteOnlyTheNamedMembers) {
+  // As batch --fields, for one curve: the members named (whole, or some of an object's), always
+  // "method", each byte for byte as in the whole output; the others are not written at all.
+  const std::string in = write_file("walk.json", R"({"points": [[0,0],[1,2],[3,1],[4,3],[6,2]]})");
+  const CliRun whole = run("fit " + quote(in));
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  const json all = json::parse(whole.out);
+  const CliRun some = run("fit " + quote(in) + " --fields 'segments, tangents'");
+  ASSERT_EQ(some.exit_code, 0) << some.err;
+  const json some_expected = {
+      {"method", all["method"]}, {"segments", all["segments"]}, {"tangents", all["tangents"]}};
+  EXPECT_EQ(some.out, some_expected.dump() + "\n");
+  const CliRun part = run("fit " + quote(in) + " --fields report.length,method_report.energy");
+  ASSERT_EQ(part.exit_code, 0) << part.err;
+  const json part_expected = {{"method", all["method"]},
+                              {"method_report", {{"energy", all["method_report"]["energy"]}}},
+                              {"report", {{"length", all["report"]["length"]}}}};
+  EXPECT_EQ(json::parse(part.out), part_expected);
+  const CliRun indented = run("fit " + quote(in) + " --fields knots --indent 2");
+  ASSERT_EQ(indented.exit_code, 0) << indented.err;
+  const json knots_expected = {{"knots", all["knots"]}, {"method", all["method"]}};
+  EXPECT_EQ(indented.out, knots_expected.dump(2) + "\n");
+  // Usage errors: a field fit does not write ("line" is a batch record's), another format,
+  // the report when none is written.
+  for (const std::string bad : {"--fields line", "--fields nope", "--fields segments -f csv",
+                                "--fields report.length "
+                                "--report none"}) {
+    const CliRun r = run("fit " + quote(in) + " " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("[invalid_argument]"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << bad;
+  }
+  EXPECT_NE(run("fit " + quote(in) + " --fields line").err.find("unknown field 'line'"),
+            std::string::npos);
+}
+
 TEST_F(Cli, MinEnergyKindsFromJson) {
   // A closed square with a corner at point 0: one open piece from the corner around to it.
   const CliRun a = run("fit -",

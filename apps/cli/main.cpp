@@ -43,6 +43,7 @@
 #include "fairspline/io/paths.hpp"
 #include "fairspline/io/svg.hpp"
 #include "fairspline/registry.hpp"
+#include "fields.hpp"
 #include "serve_module.hpp"
 
 namespace fs = std::filesystem;
@@ -155,7 +156,8 @@ struct FitArgs {
   bool summary = false;
   int indent = -1;
   fairspline::cli::FitFlags flags;
-  std::optional<double> tolerance;  ///< GeoJSON's flattening tolerance, else its default
+  std::optional<double> tolerance;    ///< GeoJSON's flattening tolerance, else its default
+  std::optional<std::string> fields;  ///< JSON only: the members kept (as batch's --fields)
   CLI::Option* alpha_opt = nullptr;
 };
 
@@ -262,6 +264,18 @@ int run_fit(const FitArgs& a) {
     }
   }
 
+  fairspline::cli::FieldSelection fields;
+  if (a.fields) {
+    if (format != "json") {
+      usage_fail("--fields applies only to JSON output (the output format here is " + format + ")");
+    }
+    try {
+      fields = fairspline::cli::parse_fields(a.fields, level, /*line=*/false);
+    } catch (const Error& e) {
+      throw UsageError{e};
+    }
+  }
+
   // 3. Fit (errors here: exit 1).
   const fairspline::io::SvgOptions svg = fairspline::io::svg_options_from_json(svg_keys);
   fairspline::FitOptions fit_options = parsed.fit_options(level);
@@ -280,13 +294,17 @@ int run_fit(const FitArgs& a) {
     text = fairspline::io::svg_path_data(result.spline) + "\n";
   } else if (format == "geojson") {
     text = fairspline::io::write_geojson(result, a.tolerance.value_or(0.0));
-  } else {  // JSON, the long output: written as it is made
+  } else if (!fields.whole_members()) {  // some objects in part: cut from their text
+    fairspline::cli::append_fit_text(text, result, fields);
+    if (a.indent >= 0) text = json::parse(text).dump(a.indent);
+    text += '\n';
+  } else {  // JSON, the long output: written as it is made (with --fields, only those members)
     write_output_with(a.output, [&](std::ostream& os) {
-      fairspline::io::write_json(result, os, a.indent);
+      fairspline::io::write_json(result, os, a.indent, fairspline::cli::member_filter(fields));
       os << '\n';
     });
   }
-  if (format != "json") write_output(a.output, text);
+  if (format != "json" || !fields.whole_members()) write_output(a.output, text);
   if (a.summary) {
     const std::string table = fairspline::io::summary_table(result);
     if (a.output.empty() || a.output == "-") {
@@ -561,6 +579,11 @@ int run(int argc, char** argv) {
                   "and self-intersections)")
       ->check(CLI::IsMember({"none", "basic", "full"}));
   add_fit_options(*fit, fa.flags);
+  fit->add_option("--fields", fa.fields,
+                  "-f json only: comma-separated members to write, e.g. segments,report.length "
+                  "(as batch --fields; \"method\" is always kept); the others are not computed "
+                  "into text at all (default: the whole result)")
+      ->type_name("LIST");
   fit->add_flag("--summary", fa.summary,
                 "Print a summary table (to stdout with -o, else to stderr)");
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")

@@ -666,19 +666,22 @@ void emit_method_report(Sink& s, const FitResult& r) {
 template <class Sink>
 class Members {
  public:
-  Members(Sink& s, const json& extra)
-      : s_(s), next_(members(extra).begin()), end_(members(extra).end()) {}
+  Members(Sink& s, const json& extra, const MemberFilter& keep = {})
+      : s_(s), next_(members(extra).begin()), end_(members(extra).end()), keep_(keep) {}
 
-  /// The key of the next member; the extra members before it are written first.
+  /// The key of the next member, if the filter keeps it (the caller then writes its value);
+  /// the extra members before it are written first.
   template <std::size_t N>
-  void key(const char (&key)[N]) {
+  [[nodiscard]] bool key(const char (&key)[N]) {
     const std::string_view k(key, N - 1);
     flush([&](const std::string& e) { return std::string_view(e) < k; });
     if (next_ != end_ && std::string_view(next_.key()) == k) {
       throw Error(ErrorCode::kInvalidArgument,
                   "write_json: extra member '" + next_.key() + "' is a field of the result");
     }
+    if (keep_ && !keep_(k)) return false;
     s_.key(key);
+    return true;
   }
 
   /// The extra members after the last key.
@@ -708,6 +711,7 @@ class Members {
 
   Sink& s_;
   json::const_iterator next_, end_;
+  const MemberFilter& keep_;
 };
 
 /// input_to_json(in, accuracy) written: its points streamed in their place among the keys.
@@ -732,28 +736,7 @@ void emit_request(Sink& s, const FitInput& in, std::optional<double> accuracy) {
 }
 
 template <class Sink>
-void emit_result(Sink& s, const FitResult& r, const json& extra) {
-  Members<Sink> m(s, extra);
-  s.begin_object();
-  m.key("closed");
-  s.boolean(r.closed);
-  m.key("knots");
-  s.array(r.knots.size(), [&](auto& to, std::size_t i) { to.number(r.knots[i]); });
-  m.key("method");
-  s.string(r.method);
-  m.key("method_report");
-  emit_method_report(s, r);
-  m.key("options");
-  emit_object_or_empty(s, r.options);
-  m.key("points");
-  s.array(r.points.size(), [&](auto& to, std::size_t i) { emit_point(to, r.points[i]); });
-  if (r.report) {
-    m.key("report");
-    emit_report(s, *r.report);
-  }
-  m.key("request");
-  emit_request(s, r.input, r.accuracy);
-  m.key("segments");
+void emit_segments(Sink& s, const FitResult& r) {
   s.array(r.spline.segments.size(), [&](auto& to, std::size_t i) {
     const Segment& g = r.spline.segments[i];
     to.begin_object();
@@ -769,8 +752,28 @@ void emit_result(Sink& s, const FitResult& r, const json& extra) {
     to.number(g.t1);
     to.end_object();
   });
-  m.key("tangents");
-  s.array(r.tangents.size(), [&](auto& to, std::size_t i) { emit_point(to, r.tangents[i]); });
+}
+
+template <class Sink>
+void emit_result(Sink& s, const FitResult& r, const json& extra, const MemberFilter& keep = {}) {
+  Members<Sink> m(s, extra, keep);
+  s.begin_object();
+  if (m.key("closed")) s.boolean(r.closed);
+  if (m.key("knots")) {
+    s.array(r.knots.size(), [&](auto& to, std::size_t i) { to.number(r.knots[i]); });
+  }
+  if (m.key("method")) s.string(r.method);
+  if (m.key("method_report")) emit_method_report(s, r);
+  if (m.key("options")) emit_object_or_empty(s, r.options);
+  if (m.key("points")) {
+    s.array(r.points.size(), [&](auto& to, std::size_t i) { emit_point(to, r.points[i]); });
+  }
+  if (r.report && m.key("report")) emit_report(s, *r.report);
+  if (m.key("request")) emit_request(s, r.input, r.accuracy);
+  if (m.key("segments")) emit_segments(s, r);
+  if (m.key("tangents")) {
+    s.array(r.tangents.size(), [&](auto& to, std::size_t i) { emit_point(to, r.tangents[i]); });
+  }
   m.finish();
   s.end_object();
 }
@@ -788,10 +791,11 @@ std::size_t text_bound(const FitResult& r) {
   return kNumber * numbers + 48 * r.spline.segments.size() + 4096;
 }
 
-void write_json(const FitResult& result, std::string& out, int indent, const json& extra) {
+void write_json(const FitResult& result, std::string& out, int indent, const json& extra,
+                const MemberFilter& keep) {
   if (indent < 0) reserve_text(out, out.size(), out.size() + text_bound(result));
   TextSink sink(out, indent);
-  emit_result(sink, result, extra);
+  emit_result(sink, result, extra, keep);
 }
 
 std::string write_json(const FitResult& result, int indent) {
@@ -800,10 +804,10 @@ std::string write_json(const FitResult& result, int indent) {
   return out;
 }
 
-void write_json(const FitResult& result, std::ostream& out, int indent) {
+void write_json(const FitResult& result, std::ostream& out, int indent, const MemberFilter& keep) {
   std::string buffer;
   TextSink sink(buffer, indent, out);
-  emit_result(sink, result, json());
+  emit_result(sink, result, json(), keep);
   sink.flush();
 }
 

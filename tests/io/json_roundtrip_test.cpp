@@ -2,11 +2,13 @@
 // level, read(write(r)) equals r field by field (doubles bit for bit) and write(read(write(r)))
 // is write(r) byte for byte; and the other views of the one writer (to_json, the SAX events)
 // are the same document.
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -275,6 +277,41 @@ TEST(JsonRoundTrip, HandMadeResults) {
   r.report = basic;
   r.solver.reset();
   check_round_trip(r);
+}
+
+TEST(JsonRoundTrip, AMemberFilterWritesTheKeptMembersOnly) {
+  // The filtered text is the whole text's object with only the kept members (byte for byte,
+  // extra members always), to a string and to a stream alike.
+  FitInput in;
+  in.points = {{0, 0}, {1, 2}, {3, 1}, {4, 3}};
+  const FitResult r = fit("quasi-elastic", in, json::object(), ReportLevel::kBasic);
+  const json extra = {{"line", 7}};
+  std::string whole;
+  write_json(r, whole, -1, extra);
+  const json all = json::parse(whole);
+  for (const std::vector<std::string>& kept :
+       {std::vector<std::string>{},
+        {"segments"},
+        {"closed", "tangents"},
+        {"report", "request"},
+        {"knots", "method", "method_report", "options", "points"}}) {
+    const MemberFilter keep = [&](std::string_view key) {
+      return std::find(kept.begin(), kept.end(), key) != kept.end();
+    };
+    json expected = {{"line", 7}};
+    for (const std::string& k : kept) expected[k] = all[k];
+    std::string text;
+    write_json(r, text, -1, extra, keep);
+    EXPECT_EQ(text, expected.dump()) << kept.size();
+    std::ostringstream stream;
+    write_json(r, stream, -1, keep);
+    expected.erase("line");
+    EXPECT_EQ(stream.str(), expected.dump()) << kept.size();
+  }
+  // No filter: everything.
+  std::string text;
+  write_json(r, text, -1, extra, MemberFilter{});
+  EXPECT_EQ(text, whole);
 }
 
 TEST(JsonRoundTrip, MalformedResultsNameTheField) {

@@ -2,6 +2,7 @@
 // Python and external checks), plus small text helpers shared by the tools.
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -68,19 +69,25 @@ nlohmann::json to_json(const FitResult& result);
 /// The report part of to_json.
 nlohmann::json to_json(const Report& report);
 
+/// Which top-level members of a result's text to write (empty: all of them).
+using MemberFilter = std::function<bool(std::string_view key)>;
+
 /// Appends the text of to_json(result).dump(indent) to `out` (indent < 0: compact, one line),
 /// written straight from the result, without a JSON tree: keys in order, numbers as dump()
 /// writes them. The one serializer of a FitResult: the CLI's fit and batch, the web server,
 /// Python's to_json, dicts and pickles all go through it. `extra` (an object, or null for none)
 /// adds members among the result's in key order, e.g. the batch record's {"line": N}; a key the
-/// result also writes throws Error(kInvalidArgument) (with `out` partly written).
+/// result also writes throws Error(kInvalidArgument) (with `out` partly written). With `keep`,
+/// only the result's top-level members it accepts are written (`extra`'s always), the others
+/// not even formatted: `fairspline batch --fields`.
 void write_json(const FitResult& result, std::string& out, int indent = -1,
-                const nlohmann::json& extra = nullptr);
+                const nlohmann::json& extra = nullptr, const MemberFilter& keep = {});
 /// The same text as a string.
 std::string write_json(const FitResult& result, int indent = -1);
 /// The same text written to `out` as it is made, a megabyte at a time (a long curve's text is
-/// never held whole); a failed write throws Error(kIoError).
-void write_json(const FitResult& result, std::ostream& out, int indent = -1);
+/// never held whole); a failed write throws Error(kIoError). `keep` as above.
+void write_json(const FitResult& result, std::ostream& out, int indent = -1,
+                const MemberFilter& keep = {});
 
 /// The SAX interface of nlohmann::json (json::sax_parse drives one).
 using JsonSax = nlohmann::json_sax<nlohmann::json>;
