@@ -1527,7 +1527,7 @@ PYBIND11_MODULE(_core, m) {
       .def(py::pickle(
           [](const FitResult& r) { return text_to_bytes(fairspline::io::write_json(r)); },
           [](const py::bytes& state) {
-            return fairspline::io::read_fit_result(state.cast<std::string>());
+            return fairspline::io::read_fit_result(state.cast<std::string_view>());
           }));
 
   add_geometry(curve, [](const FitResult& r) -> const Spline& { return r.spline; });

@@ -1,17 +1,39 @@
-// Fuzz target: io::parse_json_input on arbitrary text. The promise: a request whose every
-// number is finite, or a fairspline::Error whose JSON form (the web API's error body) can be
-// written; never another exception.
+// Fuzz target: io::parse_json_input and io::read_fit_result on arbitrary text. The promise: a
+// request whose every number is finite, or a fairspline::Error whose JSON form (the web API's
+// error body) can be written; never another exception. And the fit-result reader's fast path
+// reads what its DOM reader reads: the same result, or the same error.
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include "detail/json_input.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
 #include "fuzz_util.hpp"
+
+namespace {
+
+/// A result reader's outcome: the result's text, or the error's code and message.
+std::string result_outcome(const std::function<fairspline::FitResult()>& read) {
+  try {
+    return fairspline::io::write_json(read());
+  } catch (const fairspline::Error& e) {
+    return std::string("error ") + std::string(fairspline::error_code_name(e.code())) + " " +
+           e.what() + " index " + (e.index() ? std::to_string(*e.index()) : "-");
+  } catch (const std::exception& e) {
+    fairspline::fuzz::fail(std::string("a fit result's text: exception other than "
+                                       "fairspline::Error: ") +
+                           e.what());
+  }
+  return {};
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using fairspline::fuzz::check_finite;
@@ -40,6 +62,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } catch (const std::exception& e) {
     fail(std::string("exception other than fairspline::Error: ") + e.what());
+  }
+  if (result_outcome([&] { return fairspline::io::read_fit_result(text); }) !=
+      result_outcome([&] { return fairspline::detail::read_fit_result_dom(text); })) {
+    fail("read_fit_result and the DOM reader disagree");
   }
   return 0;
 }

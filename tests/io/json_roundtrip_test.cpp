@@ -16,6 +16,7 @@
 
 #include "test_util.hpp"
 
+#include "detail/json_input.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
 #include "fairspline/registry.hpp"
@@ -312,6 +313,64 @@ TEST(JsonRoundTrip, AMemberFilterWritesTheKeptMembersOnly) {
   std::string text;
   write_json(r, text, -1, extra, MemberFilter{});
   EXPECT_EQ(text, whole);
+}
+
+/// What a result reader made of a text: the result's text, or the error's code, message, index.
+std::string result_outcome(const std::function<FitResult()>& read) {
+  try {
+    return write_json(read());
+  } catch (const Error& e) {
+    return std::string("error ") + std::string(error_code_name(e.code())) + " " + e.what() +
+           " index " + (e.index() ? std::to_string(*e.index()) : "-");
+  }
+}
+
+TEST(JsonRoundTrip, FastResultReaderReadsWhatTheDocumentReaderReads) {
+  // Every prefix and many one-byte edits of results' texts (compact and indented): the fast
+  // reader either gives up or gives what the DOM reader gives, errors included.
+  FitInput in;
+  in.points = {{0, 0}, {1, 2}, {3, 1}, {4, 3}};
+  FitInput closed = in;
+  closed.closed = true;
+  const std::vector<std::string> texts = {
+      write_json(fit("quasi-elastic", in, json::object(), ReportLevel::kBasic)),
+      write_json(fit("li-strain", closed, json::object(), ReportLevel::kNone)),
+      write_json(fit("jaklic-zagar", in, json::object(), ReportLevel::kNone), 1)};
+  std::size_t reads = 0;
+  for (const std::string& text : texts) {
+    auto same = [&](const std::string& t) {
+      ++reads;
+      EXPECT_EQ(result_outcome([&] { return read_fit_result(t); }),
+                result_outcome([&] { return detail::read_fit_result_dom(t); }))
+          << t;
+    };
+    same(text);
+    for (std::size_t n = 0; n < text.size(); n += 3) same(text.substr(0, n));
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      for (const char c : {' ', ',', '0', '"', ']', '}', '-', 'e', '.'}) {
+        if (text[i] == c) continue;
+        std::string edited = text;
+        edited[i] = c;
+        same(edited);
+      }
+    }
+  }
+  EXPECT_GT(reads, 10000u);
+  // Repeated long arrays and segment keys in another order go to the DOM reader too.
+  const std::string& t = texts[1];
+  const std::size_t at = t.find("\"tangents\"");
+  ASSERT_NE(at, std::string::npos);
+  std::string twice = t.substr(0, t.size() - 1) + "," + t.substr(at, t.size() - 1 - at) + "}";
+  EXPECT_EQ(result_outcome([&] { return read_fit_result(twice); }),
+            result_outcome([&] { return detail::read_fit_result_dom(twice); }));
+  // The first segment's "t0" and "t1" swapped: the fast reader gives up, the DOM reads it.
+  const std::size_t t0 = t.find("\"t0\":"), t1 = t.find(",\"t1\":", t0);
+  const std::size_t end = t.find('}', t1);
+  ASSERT_TRUE(t0 != std::string::npos && t1 != std::string::npos && end != std::string::npos);
+  const std::string swapped = t.substr(0, t0) + t.substr(t1 + 1, end - t1 - 1) + "," +
+                              t.substr(t0, t1 - t0) + t.substr(end);
+  ASSERT_NE(swapped, t);
+  EXPECT_EQ(write_json(read_fit_result(swapped)), t);
 }
 
 TEST(JsonRoundTrip, MalformedResultsNameTheField) {
