@@ -8,7 +8,7 @@
 //   json-read/fit-result/<n>    io::read_fit_result of that text for n-point walks (Python's
 //                               from_json and unpickling); linear in n (BigO): nlohmann's parser
 //                               with a callback made it quadratic in the segments (4·10^4
-//                               points: 1.17 s; by the DOM alone 0.22 s; the fast reader 33 ms)
+//                               points: 1.17 s; by the DOM alone 0.22 s; the fast reader 26-33 ms)
 #include <algorithm>
 #include <chrono>
 #include <limits>

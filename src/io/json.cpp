@@ -1,6 +1,7 @@
 #include "fairspline/io/json.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -324,6 +325,29 @@ class JsonScanner {
     return false;
   }
 
+  /// A member's "key": (white space around), its key's text in `key`.
+  bool member_name(std::string_view& key) {
+    skip_space();
+    if (!string_token(key)) return false;
+    skip_space();
+    if (!eat(':')) return false;
+    skip_space();
+    return true;
+  }
+
+  /// Any value, parsed by nlohmann from its own text, as member `key` of `into` (a key it
+  /// already has gives up: the DOM reader says what a repeated key means).
+  bool other_member(std::string_view key, json& into) {
+    if (into.contains(key)) return false;
+    const std::size_t begin = i_;
+    if (!skip_value()) return false;
+    json value = json::parse(t_.begin() + static_cast<std::ptrdiff_t>(begin),
+                             t_.begin() + static_cast<std::ptrdiff_t>(i_), nullptr, false);
+    if (value.is_discarded()) return false;
+    into[std::string(key)] = std::move(value);
+    return true;
+  }
+
   /// Past one value of any kind, matching brackets outside strings; nlohmann checks the text.
   /// Gives up beyond a depth that could reach the nesting limit.
   bool skip_value() {
@@ -393,34 +417,56 @@ class JsonScanner {
     return ec == std::errc() && end == p && std::isfinite(v);
   }
 
+  /// [x, y] into `p`.
+  bool pair(Vec2& p) {
+    if (!eat('[')) return false;
+    skip_space();
+    if (!number(p.x)) return false;
+    skip_space();
+    if (!eat(',')) return false;
+    skip_space();
+    if (!number(p.y)) return false;
+    skip_space();
+    return eat(']');
+  }
+
+  /// The arrays opened directly inside the array at i_ (its own, not the rest of the text's):
+  /// the size to reserve for its pairs. Stops at a string or an object, where reading gives up.
+  std::size_t pairs_ahead() const {
+    std::size_t n = 0;
+    int depth = 0;
+    for (std::size_t j = i_; j < t_.size(); ++j) {
+      const char c = t_[j];
+      if (c == '[') {
+        n += ++depth == 2;
+      } else if (c == ']') {
+        if (--depth <= 0) break;
+      } else if (c == '"' || c == '{') {
+        break;
+      }
+    }
+    return n;
+  }
+
   /// [[x, y], ...] into `points`.
   bool points_array(std::vector<Vec2>& points) {
+    // One allocation, advised for huge pages: growing by doubling, then shrinking, touched
+    // ~3 arrays of fresh pages for 1 of points (at 2·10^5 points, 2400 page faults of ~14 µs
+    // on the measuring VM).
+    const std::size_t expected = pairs_ahead();
     if (!eat('[')) return false;
     skip_space();
     if (eat(']')) return true;
-    // One allocation, advised for huge pages: growing by doubling, then shrinking, touched
-    // ~3 arrays of fresh pages for 1 of points (at 2·10^5 points, 2400 page faults of ~14 µs
-    // on the measuring VM). Each point opens one '[' (an upper bound: later arrays count too).
-    detail::reserve_to_fill(points,
-                            static_cast<std::size_t>(std::count(t_.begin() + i_, t_.end(), '[')));
+    detail::reserve_to_fill(points, points.size() + expected);
     for (;;) {
       skip_space();
       Vec2 p;
-      if (!eat('[')) return false;
-      skip_space();
-      if (!number(p.x)) return false;
-      skip_space();
-      if (!eat(',')) return false;
-      skip_space();
-      if (!number(p.y)) return false;
-      skip_space();
-      if (!eat(']')) return false;
+      if (!pair(p)) return false;
       points.push_back(p);
       skip_space();
       if (eat(']')) break;
       if (!eat(',')) return false;
     }
-    if (points.capacity() - points.size() > points.size() / 8) points.shrink_to_fit();
     return true;
   }
 
@@ -459,23 +505,13 @@ class FastRequestReader : JsonScanner {
     skip_space();
     if (!eat('}')) {
       for (;;) {
-        skip_space();
         std::string_view key;
-        if (!string_token(key)) return std::nullopt;
-        skip_space();
-        if (!eat(':')) return std::nullopt;
-        skip_space();
+        if (!member_name(key)) return std::nullopt;
         if (key == "points") {
           if (has_points || !points_array(points)) return std::nullopt;
           has_points = true;
-        } else {
-          if (!allowed_key(key) || rest.contains(key)) return std::nullopt;
-          const std::size_t begin = i_;
-          if (!skip_value()) return std::nullopt;
-          json value = json::parse(t_.begin() + static_cast<std::ptrdiff_t>(begin),
-                                   t_.begin() + static_cast<std::ptrdiff_t>(i_), nullptr, false);
-          if (value.is_discarded()) return std::nullopt;
-          rest[std::string(key)] = std::move(value);
+        } else if (!allowed_key(key) || !other_member(key, rest)) {
+          return std::nullopt;
         }
         skip_space();
         if (eat('}')) break;
@@ -983,12 +1019,8 @@ class FastResultReader : JsonScanner {
     skip_space();
     if (!eat('{')) return std::nullopt;
     for (;;) {
-      skip_space();
       std::string_view key;
-      if (!string_token(key)) return std::nullopt;
-      skip_space();
-      if (!eat(':')) return std::nullopt;
-      skip_space();
+      if (!member_name(key)) return std::nullopt;
       bool ok = true;
       if (key == "knots") {
         ok = first_time(1) && numbers_array(knots);
@@ -999,13 +1031,7 @@ class FastResultReader : JsonScanner {
       } else if (key == "tangents") {
         ok = first_time(8) && points_array(tangents);
       } else {
-        if (rest.contains(key)) return std::nullopt;
-        const std::size_t begin = i_;
-        if (!skip_value()) return std::nullopt;
-        json value = json::parse(t_.begin() + static_cast<std::ptrdiff_t>(begin),
-                                 t_.begin() + static_cast<std::ptrdiff_t>(i_), nullptr, false);
-        if (value.is_discarded()) return std::nullopt;
-        rest[std::string(key)] = std::move(value);
+        ok = other_member(key, rest);
       }
       if (!ok) return std::nullopt;
       skip_space();
@@ -1049,11 +1075,8 @@ class FastResultReader : JsonScanner {
   bool member_key(std::string_view want, bool comma) {
     skip_space();
     if (comma && !eat(',')) return false;
-    skip_space();
     std::string_view key;
-    if (!string_token(key) || key != want) return false;
-    skip_space();
-    return eat(':');
+    return member_name(key) && key == want;
   }
 
   /// [{"bezier": [4 pairs], "span": N, "t0": x, "t1": y}, ...] into `out`, keys in that order.
@@ -1065,13 +1088,10 @@ class FastResultReader : JsonScanner {
       skip_space();
       if (!eat('{') || !member_key("bezier", false)) return false;
       Segment g;
-      std::vector<Vec2> bezier;
-      bezier.reserve(4);
-      if (!pairs(bezier, 4) || !member_key("span", true) || !size(g.span) ||
+      if (!control_points(g.bezier.p) || !member_key("span", true) || !size(g.span) ||
           !member_key("t0", true) || !number(g.t0) || !member_key("t1", true) || !number(g.t1)) {
         return false;
       }
-      std::copy(bezier.begin(), bezier.end(), g.bezier.p.begin());
       skip_space();
       if (!eat('}')) return false;
       out.push_back(g);
@@ -1081,24 +1101,14 @@ class FastResultReader : JsonScanner {
     }
   }
 
-  /// Exactly `count` pairs [x, y] in brackets.
-  bool pairs(std::vector<Vec2>& out, std::size_t count) {
+  /// Exactly four pairs [x, y] in brackets: a piece's control points.
+  bool control_points(std::array<Point, 4>& out) {
     if (!eat('[')) return false;
-    for (std::size_t k = 0; k < count; ++k) {
+    for (std::size_t k = 0; k < out.size(); ++k) {
       skip_space();
       if (k > 0 && !eat(',')) return false;
       skip_space();
-      Vec2 p;
-      if (!eat('[')) return false;
-      skip_space();
-      if (!number(p.x)) return false;
-      skip_space();
-      if (!eat(',')) return false;
-      skip_space();
-      if (!number(p.y)) return false;
-      skip_space();
-      if (!eat(']')) return false;
-      out.push_back(p);
+      if (!pair(out[k])) return false;
     }
     skip_space();
     return eat(']');
