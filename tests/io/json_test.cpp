@@ -595,6 +595,14 @@ std::vector<double> adversarial_doubles() {
   for (int i = 0; i < 10000; ++i) {                              // short decimals k / 10^j
     v.push_back(static_cast<double>(rng() % 100000) / std::pow(10.0, static_cast<int>(rng() % 12)));
   }
+  // Their neighbours: the last digit's rounding towards the value (closed form since
+  // 2026-11-29) decides between candidates a rounding unit apart there.
+  for (int i = 0; i < 10000; ++i) {
+    const double x =
+        static_cast<double>(rng() % 10000000) / std::pow(10.0, static_cast<int>(rng() % 9));
+    v.push_back(std::nextafter(x, 0.0));
+    v.push_back(std::nextafter(x, std::numeric_limits<double>::infinity()));
+  }
   return v;
 }
 
