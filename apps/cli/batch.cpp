@@ -60,8 +60,6 @@ constexpr std::size_t kBlockLines = 512;
 /// A block stops growing once its input text reaches this size (a longer line is still read
 /// whole).
 constexpr std::size_t kBlockBytes = std::size_t{1} << 20;
-/// A record's string keeps its memory for the next block unless it grew past this.
-constexpr std::size_t kKeepRecordCapacity = std::size_t{1} << 20;
 /// Redraw interval of the progress line.
 constexpr auto kRedrawInterval = std::chrono::milliseconds(200);
 
@@ -364,7 +362,7 @@ class BlockWriter {
       try {
         output_.write_all(block_);
         for (std::string& r : block_) {
-          if (r.capacity() > kKeepRecordCapacity) std::string().swap(r);  // after a huge one
+          if (r.capacity() > kKeepTextCapacity) std::string().swap(r);  // after a huge one
         }
         if (flush_) output_.flush();
       } catch (...) {

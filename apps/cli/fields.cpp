@@ -16,9 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-/// The scratch text of a cut record keeps its memory for the next unless it grew past this.
-constexpr std::size_t kKeepCapacity = std::size_t{1} << 20;
-
 /// Objects whose members depend on the method or on the request: any name is taken in them.
 constexpr std::string_view kOpenObjects[] = {"method_report", "options", "request"};
 
@@ -190,7 +187,7 @@ void append_fit_text(std::string& out, const FitResult& r, const FieldSelection&
   whole.clear();
   io::write_json(r, whole, -1, extra, member_filter(selection));
   append_selected(out, whole, selection);
-  if (whole.capacity() > kKeepCapacity) std::string().swap(whole);  // after a huge one
+  if (whole.capacity() > kKeepTextCapacity) std::string().swap(whole);  // after a huge one
 }
 
 }  // namespace fairspline::cli

@@ -1,6 +1,7 @@
 // `--fields` of `fairspline fit` and `batch`: which members of a fit's JSON text to keep.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <optional>
@@ -12,6 +13,10 @@
 #include "fairspline/io/json.hpp"
 
 namespace fairspline::cli {
+
+/// A record's text (a batch's, or the scratch of a cut one) keeps its memory for the next
+/// record unless it grew past this.
+inline constexpr std::size_t kKeepTextCapacity = std::size_t{1} << 20;
 
 /// What a fit record keeps (--fields): the members named, each whole or, for an object, with
 /// only some of its members ("report.length"). Empty: the whole record.

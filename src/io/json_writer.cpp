@@ -37,13 +37,11 @@ using nlohmann::json;
 
 namespace {
 
-/// Writes JSON text into a string, compact or indented as dump(indent) does.
-///
 /// Gives `out` room for `capacity` characters, keeping its first `used`. Storage of 1 MiB and
 /// more is advised for huge pages before the text is copied in, and is only mapped in as it is
 /// written: faulted in 4 KiB at a time (and zero-filled whole at each doubling), writing 2·10^5
-/// points into a string (the server's responses, Python's to_json) took 650 ms against 80 ms
-/// to a stream.
+/// points into a string (the server's responses, Python's to_json) took 463 ms against 65–79 ms
+/// to a stream (bench/json_io_bench.cpp).
 void reserve_text(std::string& out, std::size_t used, std::size_t capacity) {
   if (capacity <= out.capacity()) return;
   if (capacity < detail::kAlignedBlockMinBytes) {
@@ -57,6 +55,8 @@ void reserve_text(std::string& out, std::size_t used, std::size_t capacity) {
   out.swap(larger);
 }
 
+/// Writes JSON text into a string, compact or indented as dump(indent) does.
+///
 /// The string is kept sized past what is written (p_ is the end of the text) and written
 /// through a pointer: a number goes straight from the digit generator into it, where appending
 /// it, and each comma and bracket, cost a capacity check and call per character (a third of
@@ -666,7 +666,8 @@ void emit_method_report(Sink& s, const FitResult& r) {
 template <class Sink>
 class Members {
  public:
-  Members(Sink& s, const json& extra, const MemberFilter& keep = {})
+  /// (`keep` is referred to, not copied: it must outlive this.)
+  Members(Sink& s, const json& extra, const MemberFilter& keep)
       : s_(s), next_(members(extra).begin()), end_(members(extra).end()), keep_(keep) {}
 
   /// The key of the next member, if the filter keeps it (the caller then writes its value);

@@ -79,7 +79,7 @@ using MemberFilter = std::function<bool(std::string_view key)>;
 /// adds members among the result's in key order, e.g. the batch record's {"line": N}; a key the
 /// result also writes throws Error(kInvalidArgument) (with `out` partly written). With `keep`,
 /// only the result's top-level members it accepts are written (`extra`'s always), the others
-/// not even formatted: `fairspline batch --fields`.
+/// not even formatted: `--fields` of `fairspline fit` and `batch`.
 void write_json(const FitResult& result, std::string& out, int indent = -1,
                 const nlohmann::json& extra = nullptr, const MemberFilter& keep = {});
 /// The same text as a string.
