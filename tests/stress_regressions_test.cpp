@@ -141,10 +141,13 @@ const std::vector<std::string> kInputs = {
     // that shifts of 1e2..1e4 (negative curvature elsewhere) moved 5e-10 r per step.
     "quasi-elastic-balls-not_converged-noisy-s1-c307.json",
     "quasi-elastic-balls-not_converged-noisy-s3-c165.json",
-    // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball, and the
-    // elastic spline through a 160-point noisy ellipse whose pieces turn past a right angle.
+    // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball.
     "quasi-elastic-balls-not_converged-s45-c742.json",
+    // The elastic spline with balls where a U-turn piece sits on its ridge α = β (a convex
+    // kink of E_1): Newton steps crossed it back and forth until such spans are locked on it.
     "elastic-balls-not_converged-noisy-s6-c97.json",
+    "elastic-balls-not_converged-s19-c150.json",
+    "elastic-balls-not_converged-s19-c84.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-kkt-s41-c1062.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",
@@ -191,9 +194,6 @@ const std::set<std::string> kOpen = {
     // force no longer balances the free ball beside it, and the Newton matrix needs shifts of
     // 1e8 … 1e16 (docs/hardening.md, "Where it stands, read again").
     "quasi-elastic-balls-not_converged-s45-c742.json",
-    // The elastic spline with balls where pieces turn past a right angle: the ball optimizer
-    // has no lock for the energy's ridges (docs/hardening.md, same section).
-    "elastic-balls-not_converged-noisy-s6-c97.json",
 };
 
 /// Inputs that turned out to be rightly refused (a code the stress suite counts as a refusal),

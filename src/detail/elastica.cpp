@@ -736,6 +736,22 @@ ElasticaEnergy elastica_energy(double alpha, double beta, ElasticaHint& hint) {
   return e;
 }
 
+bool elastica_ridge_capable(double alpha, double beta) {
+  constexpr double kRidgeAngle = 98.5 * kPi / 180.0;
+  return std::min(std::abs(alpha), std::abs(beta)) > kRidgeAngle && alpha * beta > 0.0;
+}
+
+double elastica_ridge_half_jump(double mid, const ElasticaEnergy& on) {
+  // (The plain value at δ = 1e-7 was 2e-4 of it short: a ridge held at its limit was released,
+  // and a stress walk stopped 1.6e-4 from KKT.)
+  constexpr double kSide = 1e-8;
+  const ElasticaEnergy near = elastica_energy(mid + kSide, mid - kSide);
+  const ElasticaEnergy far = elastica_energy(mid + 2 * kSide, mid - 2 * kSide);
+  const double side =
+      (std::numbers::sqrt2 * (near.ea - near.eb) - (far.ea - far.eb)) / (std::numbers::sqrt2 - 1.0);
+  return 0.5 * (side - (on.ea - on.eb));
+}
+
 // ---- the piece ------------------------------------------------------------------------------
 
 namespace {

@@ -45,6 +45,16 @@ struct ElasticaEnergy {
 /// outside it; for max(|α|, |β|) ≤ 1e-4 the degree-4 Taylor polynomial (docs).
 ElasticaEnergy elastica_energy(double alpha, double beta);
 
+/// Past this turn a U-turn piece with both turns full exists on α = β, and E_1 has a convex kink
+/// across the diagonal there (a V in α − β: a ridge, docs/methods/elastic.md).
+bool elastica_ridge_capable(double alpha, double beta);
+
+/// The kink's half-width on the ridge α = β = mid: moving one end's direction alone by ε off the
+/// ridge changes E_1 by ε times the mean derivative plus this times |ε|. `on` is
+/// elastica_energy(mid, mid). Off the ridge by δ the derivatives differ from their limit like
+/// √δ (E_1 has a |α − β|^{3/2} term), so the values at δ and 2δ are extrapolated in √δ.
+double elastica_ridge_half_jump(double mid, const ElasticaEnergy& on);
+
 /// A warm start for repeated evaluations of one span at nearby angles (the optimizer's
 /// iterations): the canonical root of the last solve, the canonical angles and symmetry it was
 /// found under, and the root's derivatives in them (the next root-find starts from the

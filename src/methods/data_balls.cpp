@@ -19,6 +19,7 @@
 
 #include "detail/ball_energy.hpp"
 #include "detail/banded.hpp"
+#include "detail/elastica.hpp"
 #include "detail/format.hpp"
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
@@ -69,6 +70,10 @@ struct Slot {
   int active = -1;  // which box holds it, or −1
   int sign = 0;     // +1 at its upper bound, −1 at its lower one
   int var = -1;
+  // Tied to another slot (the elastic spline's ridge lock): θ = slot[tie].θ + tie_offset.
+  int tie = -1;
+  double tie_offset = 0.0;
+  std::size_t tie_span = 0;  // the span on its ridge
 };
 
 // A position is kept as its offset from the centre: a chord between near-repeated centres is
@@ -186,11 +191,20 @@ double box_deviation(const Slot& sl, int k, const State& st) {
   return wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
 }
 
+// Span s locked on its ridge: one end's slot tied to the other's (α = β exactly).
+bool on_ridge(const Problem& pb, std::size_t s) {
+  const int out = pb.node[s].out, in = pb.node[pb.next(s)].in;
+  return pb.slot[in].tie == out || pb.slot[out].tie == in;
+}
+
 std::pair<double, double> end_angles(const Problem& pb, const State& st, std::size_t s) {
   const Node& a = pb.node[s];
   const Node& b = pb.node[pb.next(s)];
   const double out = pb.slot[a.out].theta + (a.in == a.out ? a.corner : 0.0);
-  return {wrap(out - st.phi[s]), wrap(pb.slot[b.in].theta - st.phi[s])};
+  const double alpha = wrap(out - st.phi[s]);
+  // On a ridge the kink's mean derivatives need α = β to the bit, not to θ's rounding.
+  if (on_ridge(pb, s)) return {alpha, alpha};
+  return {alpha, wrap(pb.slot[b.in].theta - st.phi[s])};
 }
 
 // E_1 with its value free of cancellation: cond-G2's 2λ²cos(α−β) − 6λ(cos α + cos β) + 4λ² + 6
@@ -221,6 +235,7 @@ double total_energy(const Problem& pb, const State& st) {
 bool settle(Problem& pb, const State& st, bool clip = true) {
   const double om = pb.omega;
   for (Slot& sl : pb.slot) {
+    if (sl.tie >= 0) continue;
     if (sl.active >= 0) {
       const int a = sl.active;
       sl.theta = st.phi[sl.span[a]] - sl.offset[a] + sl.sign * om;
@@ -238,7 +253,70 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
       }
     }
   }
+  // A tied slot follows its owner; its own boxes are met or the point is not feasible.
+  for (Slot& sl : pb.slot) {
+    if (sl.tie < 0) continue;
+    sl.theta = pb.slot[sl.tie].theta + sl.tie_offset;
+    for (int b = 0; b < sl.nbox; ++b) {
+      if (std::abs(box_deviation(sl, b, st)) >= om) return false;
+    }
+  }
   return true;
+}
+
+/// How far a released ridge's direction is moved off it (radians), as in the interpolation.
+constexpr double kRidgeStep = 1e-7;
+/// A span whose end angles differ by at most this (rad) on a ridge is on it (rounding).
+constexpr double kOnRidge = 1e-9;
+
+// Locks span s of the elastic spline on its ridge α = β: one end's slot (a free one that no
+// other slot is tied to) is tied to the other's, both moved to their mean direction where both
+// are free. False, with nothing changed, where that is not possible or leaves a box.
+bool tie_ridge(Problem& pb, const State& st, std::size_t s, bool clip) {
+  const int out = pb.node[s].out, in = pb.node[pb.next(s)].in;
+  const Node& a = pb.node[s];
+  const double corner = a.in == a.out ? a.corner : 0.0;
+  auto free = [&](int k) {
+    const Slot& sl = pb.slot[static_cast<std::size_t>(k)];
+    if (sl.fixed || sl.active >= 0 || sl.tie >= 0) return false;
+    return std::none_of(pb.slot.begin(), pb.slot.end(), [&](const Slot& o) { return o.tie == k; });
+  };
+  if (out == in || pb.slot[out].tie >= 0 || pb.slot[in].tie >= 0) return false;
+  const bool in_free = free(in), out_free = free(out);
+  if (!in_free && !out_free) return false;
+  const std::vector<Slot> before = pb.slot;
+  Slot& so = pb.slot[static_cast<std::size_t>(out)];
+  Slot& si = pb.slot[static_cast<std::size_t>(in)];
+  const double d_out = so.theta + corner;
+  const double turns = 2.0 * kPi * std::round((si.theta - d_out) / (2.0 * kPi));
+  // The mean direction where both may move, else the fixed or held one's.
+  const double mean = in_free && out_free ? 0.5 * (d_out + si.theta - turns)
+                      : in_free           ? d_out
+                                          : si.theta - turns;
+  so.theta = mean - corner;
+  si.theta = mean + turns;
+  if (in_free) {
+    si.tie = out;
+    si.tie_offset = corner + turns;
+    si.tie_span = s;
+  } else {
+    so.tie = in;
+    so.tie_offset = -corner - turns;
+    so.tie_span = s;
+  }
+  if (!settle(pb, st, clip)) {
+    pb.slot = before;
+    return false;
+  }
+  return true;
+}
+
+// Frees tied slot k, moved off the ridge by kRidgeStep against the force `torque` on it.
+void untie(Problem& pb, std::size_t k, double torque) {
+  Slot& sl = pb.slot[k];
+  sl.tie = -1;
+  sl.tie_offset = 0.0;
+  sl.theta -= std::copysign(kRidgeStep, torque);
 }
 
 // Where a closed curve is cut for the border: two consecutive nodes c, c + 1, numbered last.
@@ -269,7 +347,7 @@ std::size_t number_unknowns(Problem& pb, std::vector<double>& scale, bool positi
       Slot& sl = pb.slot[s];
       if (sl.var >= 0 && s == nd.out && nd.in == nd.out) continue;  // numbered as in
       sl.var = -1;
-      if (sl.fixed || sl.active >= 0) continue;
+      if (sl.fixed || sl.active >= 0 || sl.tie >= 0) continue;
       sl.var = static_cast<int>(scale.size());
       scale.push_back(1.0);
     }
@@ -299,7 +377,9 @@ std::size_t number_unknowns(Problem& pb, std::vector<double>& scale, bool positi
 
 Jet slot_jet(const Problem& pb, const Slot& sl) {
   Jet j;
+  if (sl.tie >= 0) j = slot_jet(pb, pb.slot[static_cast<std::size_t>(sl.tie)]);
   j.v = sl.theta;
+  if (sl.tie >= 0) return j;
   if (sl.var >= 0) {
     j.m = 1;
     j.idx[0] = sl.var;
@@ -402,7 +482,8 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
       }
     };
     auto see_node = [&](const Node& nd) { see(nd.var, nd.boundary ? 1 : 2); };
-    auto see_slot = [&](const Slot& sl) {
+    auto see_slot = [&](const Slot& tied) {
+      const Slot& sl = tied.tie >= 0 ? pb.slot[static_cast<std::size_t>(tied.tie)] : tied;
       see(sl.var, 1);
       if (sl.active >= 0) {
         const std::size_t t = sl.span[sl.active];
@@ -426,7 +507,8 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
     const Jet in = slot_jet(pb, pb.slot[pb.node[j].in]);
     const VJet c = chord(position(a), position(pb.node[j]), pb.node[j].q - a.q);
     const double phi = st.phi[s];
-    BasicEnergy e1 = span_energy(pb.m, wrap(o.v - phi), wrap(in.v - phi));
+    const double alpha = wrap(o.v - phi);
+    BasicEnergy e1 = span_energy(pb.m, alpha, on_ridge(pb, s) ? alpha : wrap(in.v - phi));
     if (convex) project_psd(e1);
     const SpanDerivatives sd = span_derivatives(e1, c.v);
     energy += sd.e;
@@ -570,6 +652,11 @@ constexpr int kOutputRounds = 3;
 /// A chord that rounding its ends' positions turns by more than this (rad) has them kept as
 /// rounded and the rest optimized again (fit_data_balls).
 constexpr double kRoundedChordTurn = 1e-11;
+
+/// What a data-ball fit with the elastic spline that does not converge adds to its message.
+constexpr char kElasticKinks[] =
+    "where a piece turns by more than a right angle its energy has kinks (half turns, ridges it "
+    "cannot lock) the optimizer does not handle; the restricted elastic spline fits these balls";
 
 class Solver {
  public:
@@ -912,6 +999,7 @@ class Solver {
       // rounding hid the rest's decrease.)
       flat = de > -rnd && pg >= 0.9 * best_pg ? flat + 1 : 0;
       best_pg = std::min(best_pg, pg);
+      lock_crossed_ridges(mu);
       std::swap(pb_, trial_);
       std::swap(st_, tst_);
       held_.assign(n_, 0);
@@ -925,6 +1013,20 @@ class Solver {
         ++o.iterations;
         return stop(o);
       }
+    }
+  }
+
+  // The elastic spline's ridges (docs/methods/elastic.md): a span whose step crossed α = β
+  // beyond 98.5° is locked on it, as the interpolation does; Newton steps across the kink went
+  // back and forth under a growing shift (noisy-s6-c97: a U-turn piece at 130°).
+  void lock_crossed_ridges(double mu) {
+    if (pb_.m.basis != MinEnergyBasis::kElastic) return;
+    for (std::size_t s = 0; s < ns_; ++s) {
+      if (on_ridge(trial_, s)) continue;
+      const auto [a0, b0] = end_angles(pb_, st_, s);
+      const auto [a1, b1] = end_angles(trial_, tst_, s);
+      if (!detail::elastica_ridge_capable(a1, b1) || (a0 - b0) * (a1 - b1) > 0.0) continue;
+      tie_ridge(trial_, tst_, s, mu == 0.0);
     }
   }
 
@@ -1133,7 +1235,9 @@ class Solver {
   // barrier's (its force is that box's multiplier) instead of by rejected steps.
   double box_weight(const Slot& sl, int k, double mu) const {
     if (mu > 0.0) return sl.active < 0 ? mu * torque_ : 0.0;
-    if (sl.fixed || (sl.active >= 0 && sl.active != k)) return held_weight_[sl.span[k]];
+    if (sl.fixed || sl.tie >= 0 || (sl.active >= 0 && sl.active != k)) {
+      return held_weight_[sl.span[k]];
+    }
     return 0.0;
   }
 
@@ -1157,7 +1261,9 @@ class Solver {
     phi += raw_.barrier;
     const double om = pb_.omega;
     held_torque_.assign(pb_.slot.size(), 0.0);
+    tied_.clear();
     for (std::size_t si = 0; si < pb_.slot.size(); ++si) {
+      if (pb_.slot[si].tie >= 0) tied_.push_back(si);
       const Slot& sl = pb_.slot[si];
       for (int k = 0; k < sl.nbox; ++k) {
         const double w = box_weight(sl, k, mu);
@@ -1179,6 +1285,7 @@ class Solver {
     // The elastic spline's pair bounds |α − β| = |θ_i + corner − θ_j| <= π, as the held boxes:
     // a barrier of weight kHeldBarrier (the chord's angle cancels in α − β).
     for (std::size_t s = 0; s < ns_ && pb_.m.basis == MinEnergyBasis::kElastic; ++s) {
+      if (on_ridge(pb_, s)) continue;
       const Node& a = pb_.node[s];
       const Node& b = pb_.node[pb_.next(s)];
       const Jet d = difference(slot_jet(pb_, pb_.slot[a.out]), slot_jet(pb_, pb_.slot[b.in]));
@@ -1261,6 +1368,15 @@ class Solver {
           wrong_at = i;
         }
       }
+      for (int s : {nd.in, nd.out}) {
+        if (s < 0 || pb_.slot[s].tie < 0) continue;
+        slot_wrong_[s] = f * ridge_excess(static_cast<std::size_t>(s));
+        here = std::max(here, slot_wrong_[s]);
+        if (slot_wrong_[s] > wrong) {
+          wrong = slot_wrong_[s];
+          wrong_at = i;
+        }
+      }
       if (nd.boundary) {
         node_wrong_[i] = f * outward(i);
         here = std::max(here, node_wrong_[i]);
@@ -1279,6 +1395,24 @@ class Solver {
     unresolved_ = unresolved;
   }
 
+  // How far the force through tied slot k's ridge exceeds the kink's half-width (negative while
+  // it holds): moving either end alone off the ridge by ε changes E by ε times its torque plus
+  // the half-width times |ε|. A ridge released twice stays locked (the half-width is a
+  // difference of one-sided derivatives and may not be sharp enough to decide).
+  double ridge_excess(std::size_t k) const {
+    const Slot& sl = pb_.slot[k];
+    if (ridge_releases_.size() > k && ridge_releases_[k] >= 2) return 0.0;
+    const std::size_t owner = static_cast<std::size_t>(sl.tie);
+    const std::size_t s = sl.tie_span;
+    const double alpha = end_angles(pb_, st_, s).first;
+    const double half =
+        detail::elastica_ridge_half_jump(alpha, detail::elastica_energy(alpha, alpha)) / st_.len[s];
+    const Slot& o = pb_.slot[owner];
+    double force = std::abs(raw_.slot[k]);
+    if (!o.fixed && o.active < 0) force = std::max(force, std::abs(raw_.slot[owner]));
+    return std::max(0.0, force - half);
+  }
+
   // ∂E/∂p at node i with the directions on a bound at its chords turning with them.
   Vec2 force(std::size_t i) const {
     Vec2 total = raw_.node[i];
@@ -1291,6 +1425,11 @@ class Solver {
       for (int sk : {pb_.node[a].out, pb_.node[b].in}) {
         const Slot& sl = pb_.slot[sk];
         if (sl.active >= 0 && sl.span[sl.active] == s) total += raw_.slot[sk] * dphi;
+      }
+      // A slot tied to one on a bound at this chord turns with it too.
+      for (std::size_t k : tied_) {
+        const Slot& o = pb_.slot[static_cast<std::size_t>(pb_.slot[k].tie)];
+        if (o.active >= 0 && o.span[o.active] == s) total += raw_.slot[k] * dphi;
       }
     }
     return total;
@@ -1446,7 +1585,20 @@ class Solver {
   // Frees every constraint whose multiplier has the wrong sign by more than `target`.
   bool release(double target) {
     bool any = false;
+    ridge_releases_.resize(pb_.slot.size(), 0);
     for (std::size_t k = 0; k < pb_.slot.size(); ++k) {
+      if (slot_wrong_[k] > target && pb_.slot[k].tie >= 0) {
+        // Off the ridge on the side where the larger force points downhill.
+        const std::size_t owner = static_cast<std::size_t>(pb_.slot[k].tie);
+        const Slot& o = pb_.slot[owner];
+        const bool by_owner =
+            !o.fixed && o.active < 0 && std::abs(raw_.slot[owner]) > std::abs(raw_.slot[k]);
+        const double torque = by_owner ? -raw_.slot[owner] : raw_.slot[k];
+        untie(pb_, k, torque);
+        ++ridge_releases_[k];
+        any = true;
+        continue;
+      }
       if (slot_wrong_[k] > target) {
         pb_.slot[k].active = -1;
         released_.emplace_back(k, pb_.slot[k].sign * (raw_.slot[k] + held_torque_[k]));
@@ -1610,8 +1762,10 @@ class Solver {
   std::vector<double> base_held_;      // held_weight_ as measure_scales() set it
   std::vector<double> room_;           // per span: its held boxes' least room (adapt_held)
   double gscale_ = 0.0, wsum_ = 0.0, relative_rounding_ = 1e-15;
-  std::vector<double> local_;  // per node: its spans' largest weight
-  std::vector<double> floor_;  // per node: the residual its chords' rounding allows
+  std::vector<double> local_;        // per node: its spans' largest weight
+  std::vector<double> floor_;        // per node: the residual its chords' rounding allows
+  std::vector<int> ridge_releases_;  // per slot: how often its ridge was released
+  std::vector<std::size_t> tied_;    // the tied slots (evaluate())
   double tol_ = 0.0, raw_residual_ = 0.0, unresolved_ = 0.0;
   int max_iterations_ = 200;
   std::vector<double> scale_, g_, step_, slot_wrong_, node_wrong_;
@@ -1723,6 +1877,14 @@ std::optional<std::vector<Point>> straight_line(const Problem& pb) {
 // The optimizer's phases on pb from its current point: the barrier phase (only from the
 // interpolation's start), the cross-over, the exact phase, and saddle escapes.
 Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barrier) {
+  // Spans the elastic interpolation left on a ridge start locked on it.
+  for (std::size_t s = 0; s < pb.spans() && pb.m.basis == MinEnergyBasis::kElastic; ++s) {
+    const auto [al, be] = end_angles(pb, st, s);
+    if (!on_ridge(pb, s) && std::abs(al - be) <= kOnRidge &&
+        detail::elastica_ridge_capable(al, be)) {
+      tie_ridge(pb, st, s, true);
+    }
+  }
   Solver solver(pb, st, options);
   Outcome res;
   if (barrier) {
@@ -2016,10 +2178,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       throw Error(ErrorCode::kNotConverged,
                   "the data-ball optimizer did not converge with the elastic spline (KKT "
                   "residual " +
-                      format_number(residual) +
-                      ", largest at this point): where a piece turns by more than a right angle "
-                      "its energy has kinks (U-turn pieces, half turns) the optimizer does not "
-                      "handle; the restricted elastic spline fits these balls",
+                      format_number(residual) + ", largest at this point): " + kElasticKinks,
                   worst);
     }
     throw Error(ErrorCode::kNotConverged,
@@ -2115,12 +2274,10 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
                   "the data-ball optimizer did not converge with the elastic spline: its "
                   "directions and the elastic interpolation's through the same positions differ "
                   "by " +
-                      format_number(moved_by) +
-                      " rad; where a piece turns by more than a right angle its energy has kinks "
-                      "(U-turn pieces, half turns) the optimizer does not handle; the restricted "
-                      "elastic spline fits these balls",
+                      format_number(moved_by) + " rad; " + kElasticKinks,
                   0);
     }
+    for (Slot& sl : pb.slot) sl.tie = -1;  // the interpolation decides the ridges again
     for (std::size_t i = 0; i < n; ++i) {  // each slot from its side of the interpolation
       const Node& nd = pb.node[i];
       const bool has_prev = pb.closed || i > 0, has_next = pb.closed || i + 1 < n;
@@ -2148,10 +2305,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       throw Error(ErrorCode::kNotConverged,
                   "the data-ball optimizer did not converge with the elastic spline (KKT "
                   "residual " +
-                      format_number(more.residual) +
-                      ", largest at this point): where a piece turns by more than a right angle "
-                      "its energy has kinks (U-turn pieces, half turns) the optimizer does not "
-                      "handle; the restricted elastic spline fits these balls",
+                      format_number(more.residual) + ", largest at this point): " + kElasticKinks,
                   more.worst);
     }
     iterations += more.iterations;

@@ -1184,16 +1184,10 @@ std::pair<double, double> segment_angles(const Chain& ch, std::span<const double
   return {x[s] + ch.a[s], x[j] + ch.b[j]};
 }
 
-/// Past this turn a U-turn piece with both turns full exists on α = β (docs/methods/elastic.md).
-constexpr double kRidgeAngle = 98.5 * kPi / 180.0;
-
-/// On α = β beyond kRidgeAngle E_1 has a convex kink across the diagonal (a V in α − β): a
-/// nonsmooth minimum that Newton steps would cross back and forth. A segment there is locked
-/// at α = β (a link of state kRidge) while the force through it stays within the kink's
-/// subgradient.
-bool ridge_capable(double alpha, double beta) {
-  return std::min(std::abs(alpha), std::abs(beta)) > kRidgeAngle && alpha * beta > 0.0;
-}
+/// On α = β beyond 98.5° E_1 has a convex kink across the diagonal (a V in α − β): a nonsmooth
+/// minimum that Newton steps would cross back and forth. A segment there is locked at α = β (a
+/// link of state kRidge) while the force through it stays within the kink's subgradient.
+using detail::elastica_ridge_capable;
 
 constexpr signed char kRidge = 2;
 /// How far a released ridge's start direction is moved off it (radians).
@@ -1218,16 +1212,7 @@ void apply_ridges(const Chain& ch, std::span<const signed char> link, Evaluation
     ev.d[s] += w * (on.eaa - now.eaa);
     ev.d[j] += w * (on.ebb - now.ebb);
     ev.e[s] += w * (on.eab - now.eab);
-    // The side's derivative at the ridge: off it by δ the derivatives differ from their limit
-    // like √δ (E has a |α − β|^{3/2} term), so the values at δ and 2δ are extrapolated in √δ.
-    // (The plain value at δ = 1e-7 was 2e-4 of it short: a ridge held at its limit was
-    // released, and a stress walk stopped 1.6e-4 from KKT.)
-    constexpr double kSide = 1e-8;
-    const detail::ElasticaEnergy near = detail::elastica_energy(mid + kSide, mid - kSide);
-    const detail::ElasticaEnergy far = detail::elastica_energy(mid + 2 * kSide, mid - 2 * kSide);
-    const double side = (std::numbers::sqrt2 * (near.ea - near.eb) - (far.ea - far.eb)) /
-                        (std::numbers::sqrt2 - 1.0);
-    half_jump[s] = w * 0.5 * (side - (on.ea - on.eb));
+    half_jump[s] = w * detail::elastica_ridge_half_jump(mid, on);
   }
 }
 
@@ -1278,7 +1263,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   auto lock_ridges = [&] {
     for (std::size_t s = 0; s < segs; ++s) {
       const auto [alpha, beta] = segment_angles(ch, ch.x, s);
-      if (!link[s] && alpha == beta && ridge_capable(alpha, beta)) link[s] = kRidge;
+      if (!link[s] && alpha == beta && elastica_ridge_capable(alpha, beta)) link[s] = kRidge;
     }
   };
   lock_ridges();
@@ -1561,7 +1546,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       if (lo_at < link_at[s]) link_at[s] = lo_at, link_state[s] = -1;
       // Crossing the ridge α = β of a U-turn segment: stop on it.
       const auto [alpha, beta] = segment_angles(ch, ch.x, s);
-      if (!released[s] && ridge_capable(alpha, beta) && alpha != beta) {
+      if (!released[s] && elastica_ridge_capable(alpha, beta) && alpha != beta) {
         const double cross_at = reach(s, alpha - beta, 0.0, alpha < beta);
         if (cross_at < link_at[s]) link_at[s] = cross_at, link_state[s] = kRidge;
       }
