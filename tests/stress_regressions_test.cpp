@@ -148,6 +148,11 @@ const std::vector<std::string> kInputs = {
     "elastic-balls-not_converged-noisy-s6-c97.json",
     "elastic-balls-not_converged-s19-c150.json",
     "elastic-balls-not_converged-s19-c84.json",
+    // Converged, but the refit through the optimum's positions restarted the elastic
+    // interpolation from the restricted spline and found other directions (0.0005 and 2.7 rad
+    // away): a warm start now starts its coupled phase at the optimum's directions.
+    "elastic-balls-not_converged-s19-c104.json",
+    "elastic-balls-not_converged-s19-c138.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-kkt-s41-c1062.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",

@@ -2216,7 +2216,14 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     const SpanDirections best = optimum_directions();
     SpanDirections got;
     rep = MinEnergyReport{};
-    fit_min_energy_at(moved, options, level, out, &rep, &best, &got);
+    try {
+      fit_min_energy_at(moved, options, level, out, &rep, &best, &got);
+    } catch (const Error&) {
+      // A warm start the interpolation cannot go on from: its own start (as before warm starts
+      // were honoured by the elastic spline), whose errors are the fit's.
+      rep = MinEnergyReport{};
+      fit_min_energy_at(moved, options, level, out, &rep, nullptr, &got);
+    }
     // The directions can have several local minima at the same positions: where the
     // interpolation's own start finds a lower one (what a refit of the result gives), the
     // optimizer goes on from it.

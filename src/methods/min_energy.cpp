@@ -1651,10 +1651,27 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
 /// The elastic basis on one chain: first the restricted elastic spline (boxes |α|, |β| <= 90°,
 /// where every pair is feasible; a clamped neighbour's pair becomes a box), then the
 /// active-set Newton on the whole s-curve domain from there. The unrestricted energy has
-/// start-dependent local minima: this returns the one reached from the restricted optimum.
-ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale) {
+/// start-dependent local minima: this returns the one reached from the restricted optimum, or,
+/// `warm`, from ch.x as given where it meets every pair constraint (a data-ball fit refitting
+/// its optimum: restarting from the restricted spline found another minimum).
+ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale, bool warm) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
   const PairBounds pb = pair_bounds(ch, kPairLimit);
+  if (warm) {
+    // Its end angles strictly inside the s-curves' domain: on a box at 180° an angle wraps
+    // (a closed curve with a half turn then met an infeasible piece).
+    bool inside = true;
+    for (std::size_t t = 0; t < k && inside; ++t) {
+      const double x = ch.x[t];
+      inside = ch.fixed[t] || (ch.lo[t] <= x && x <= ch.hi[t] &&
+                               std::max(std::abs(x + ch.a[t]), std::abs(x + ch.b[t])) < kPairLimit);
+    }
+    for (std::size_t s = 0; s < segs && inside; ++s) {
+      const double v = ch.x[s] - ch.x[s + 1 == k ? 0 : s + 1];
+      inside = pb.lo[s] < v && v < pb.hi[s];
+    }
+    if (inside) return optimize_coupled(ch, opt, gscale, pb);
+  }
   Chain start = ch;
   // Held: fixed, or a restricted box found empty below. Each node's box is also bounded by its
   // pair constraints with held neighbours, so that the start satisfies every pair constraint
@@ -2316,7 +2333,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
       start_quadratic(ch, m, gscale);
     }
     const ChainResult r = m.basis == MinEnergyBasis::kElastic
-                              ? optimize_elastic(ch, options, gscale)
+                              ? optimize_elastic(ch, options, gscale, warm != nullptr)
                               : optimize_searched(ch, options, gscale);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.window_passes += r.window_passes;
