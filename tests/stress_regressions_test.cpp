@@ -153,6 +153,9 @@ const std::vector<std::string> kInputs = {
     // away): a warm start now starts its coupled phase at the optimum's directions.
     "elastic-balls-not_converged-s19-c104.json",
     "elastic-balls-not_converged-s19-c138.json",
+    // A span on its half-turn bound |α − β| = π held by a barrier: steps shrank to 1e-12 at a
+    // gradient of 2e9. The bound is now an exact constraint (a tie of its two directions).
+    "elastic-balls-not_converged-s19-c321.json",
     "quasi-elastic-not_converged-s18-c430846.json",
     "restricted-elastic-balls-kkt-s41-c1062.json",
     "restricted-elastic-balls-not_converged-s19-c419.json",

@@ -73,7 +73,8 @@ struct Slot {
   // Tied to another slot (the elastic spline's ridge lock): θ = slot[tie].θ + tie_offset.
   int tie = -1;
   double tie_offset = 0.0;
-  std::size_t tie_span = 0;  // the span on its ridge
+  std::size_t tie_span = 0;  // the span it holds
+  double tie_gap = 0.0;      // that span's α − β: 0 on a ridge, ±kPairLimit on its pair bound
 };
 
 // A position is kept as its offset from the centre: a chord between near-repeated centres is
@@ -191,10 +192,17 @@ double box_deviation(const Slot& sl, int k, const State& st) {
   return wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
 }
 
-// Span s locked on its ridge: one end's slot tied to the other's (α = β exactly).
-bool on_ridge(const Problem& pb, std::size_t s) {
+/// The elastic pair constraints |α − β| <= this sit just inside 180°, where E_1 is finite (as in
+/// the interpolation).
+constexpr double kPairLimit = kPi * (1.0 - 1e-12);
+
+// The slot that holds span s (one end's slot tied to the other's: on a ridge α = β, on its pair
+// bound α − β = ±kPairLimit), or null.
+const Slot* holding(const Problem& pb, std::size_t s) {
   const int out = pb.node[s].out, in = pb.node[pb.next(s)].in;
-  return pb.slot[in].tie == out || pb.slot[out].tie == in;
+  if (pb.slot[in].tie == out) return &pb.slot[in];
+  if (pb.slot[out].tie == in) return &pb.slot[out];
+  return nullptr;
 }
 
 std::pair<double, double> end_angles(const Problem& pb, const State& st, std::size_t s) {
@@ -202,8 +210,9 @@ std::pair<double, double> end_angles(const Problem& pb, const State& st, std::si
   const Node& b = pb.node[pb.next(s)];
   const double out = pb.slot[a.out].theta + (a.in == a.out ? a.corner : 0.0);
   const double alpha = wrap(out - st.phi[s]);
-  // On a ridge the kink's mean derivatives need α = β to the bit, not to θ's rounding.
-  if (on_ridge(pb, s)) return {alpha, alpha};
+  // A held span's α − β to the bit, not to θ's rounding: on a ridge the kink's mean derivatives
+  // need it, on a pair bound rounding could take it past 180°.
+  if (const Slot* h = holding(pb, s)) return {alpha, alpha - h->tie_gap};
   return {alpha, wrap(pb.slot[b.in].theta - st.phi[s])};
 }
 
@@ -228,6 +237,8 @@ double total_energy(const Problem& pb, const State& st) {
   }
   return e;
 }
+
+bool tie_span(Problem& pb, const State& st, std::size_t s, double gap);
 
 // Puts every active slot on its bound and clips the others into their boxes (activating them
 // there). False when a box cannot be met (the positions turned a stencil beyond 2Ω, or moved a
@@ -255,11 +266,23 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
   }
   // A tied slot follows its owner; its own boxes are met or the point is not feasible.
   for (Slot& sl : pb.slot) {
+    if (sl.tie >= 0) sl.theta = pb.slot[sl.tie].theta + sl.tie_offset;
+  }
+  // The elastic spline's pair bounds |α − β| <= kPairLimit (the chord cancels in α − β): a span
+  // past one is put on it, held by a tie (its multiplier is the tie's torque).
+  for (std::size_t s = 0; s < pb.spans() && pb.m.basis == MinEnergyBasis::kElastic; ++s) {
+    if (holding(pb, s)) continue;
+    const auto [al, be] = end_angles(pb, st, s);
+    if (std::abs(al - be) <= kPairLimit) continue;
+    if (!clip || !tie_span(pb, st, s, std::copysign(kPairLimit, al - be))) return false;
+  }
+  for (Slot& sl : pb.slot) {
     if (sl.tie < 0) continue;
-    sl.theta = pb.slot[sl.tie].theta + sl.tie_offset;
     for (int b = 0; b < sl.nbox; ++b) {
       if (std::abs(box_deviation(sl, b, st)) >= om) return false;
     }
+    const double alpha = end_angles(pb, st, sl.tie_span).first;
+    if (!(std::abs(alpha - sl.tie_gap) < kPi)) return false;
   }
   return true;
 }
@@ -269,10 +292,12 @@ constexpr double kRidgeStep = 1e-7;
 /// A span whose end angles differ by at most this (rad) on a ridge is on it (rounding).
 constexpr double kOnRidge = 1e-9;
 
-// Locks span s of the elastic spline on its ridge α = β: one end's slot (a free one that no
-// other slot is tied to) is tied to the other's, both moved to their mean direction where both
-// are free. False, with nothing changed, where that is not possible or leaves a box.
-bool tie_ridge(Problem& pb, const State& st, std::size_t s, bool clip) {
+// Holds span s of the elastic spline at α − β = gap (0: its ridge; ±kPairLimit: its pair bound)
+// by tying one end's slot (a free one that no other slot is tied to) to the other's. On a ridge
+// both move to their mean direction where both are free; on a pair bound the tied one alone
+// moves onto it. False, with nothing changed, where no slot is free. The caller settles.
+bool tie_span(Problem& pb, const State& st, std::size_t s, double gap) {
+  (void)st;
   const int out = pb.node[s].out, in = pb.node[pb.next(s)].in;
   const Node& a = pb.node[s];
   const double corner = a.in == a.out ? a.corner : 0.0;
@@ -284,31 +309,30 @@ bool tie_ridge(Problem& pb, const State& st, std::size_t s, bool clip) {
   if (out == in || pb.slot[out].tie >= 0 || pb.slot[in].tie >= 0) return false;
   const bool in_free = free(in), out_free = free(out);
   if (!in_free && !out_free) return false;
-  const std::vector<Slot> before = pb.slot;
   Slot& so = pb.slot[static_cast<std::size_t>(out)];
   Slot& si = pb.slot[static_cast<std::size_t>(in)];
+  // Directions: out's d_out, in's d_in = d_out − gap + turns.
   const double d_out = so.theta + corner;
-  const double turns = 2.0 * kPi * std::round((si.theta - d_out) / (2.0 * kPi));
-  // The mean direction where both may move, else the fixed or held one's.
-  const double mean = in_free && out_free ? 0.5 * (d_out + si.theta - turns)
-                      : in_free           ? d_out
-                                          : si.theta - turns;
+  const double turns = 2.0 * kPi * std::round((si.theta - (d_out - gap)) / (2.0 * kPi));
+  double mean = in_free ? d_out : si.theta - turns + gap;
+  if (gap == 0.0 && in_free && out_free) mean = 0.5 * (d_out + si.theta - turns);
   so.theta = mean - corner;
-  si.theta = mean + turns;
-  if (in_free) {
-    si.tie = out;
-    si.tie_offset = corner + turns;
-    si.tie_span = s;
-  } else {
-    so.tie = in;
-    so.tie_offset = -corner - turns;
-    so.tie_span = s;
-  }
-  if (!settle(pb, st, clip)) {
-    pb.slot = before;
-    return false;
-  }
+  si.theta = mean - gap + turns;
+  Slot& tied = in_free ? si : so;
+  tied.tie = in_free ? out : in;
+  tied.tie_offset = in_free ? corner - gap + turns : gap - corner - turns;
+  tied.tie_span = s;
+  tied.tie_gap = gap;
   return true;
+}
+
+// Locks span s on its ridge α = β, settled; false, with nothing changed, where that is not
+// possible or leaves a box.
+bool tie_ridge(Problem& pb, const State& st, std::size_t s, bool clip) {
+  const std::vector<Slot> before = pb.slot;
+  if (tie_span(pb, st, s, 0.0) && settle(pb, st, clip)) return true;
+  pb.slot = before;
+  return false;
 }
 
 // Frees tied slot k, moved off the ridge by kRidgeStep against the force `torque` on it.
@@ -316,6 +340,7 @@ void untie(Problem& pb, std::size_t k, double torque) {
   Slot& sl = pb.slot[k];
   sl.tie = -1;
   sl.tie_offset = 0.0;
+  sl.tie_gap = 0.0;
   sl.theta -= std::copysign(kRidgeStep, torque);
 }
 
@@ -508,7 +533,8 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
     const VJet c = chord(position(a), position(pb.node[j]), pb.node[j].q - a.q);
     const double phi = st.phi[s];
     const double alpha = wrap(o.v - phi);
-    BasicEnergy e1 = span_energy(pb.m, alpha, on_ridge(pb, s) ? alpha : wrap(in.v - phi));
+    const Slot* held = holding(pb, s);
+    BasicEnergy e1 = span_energy(pb.m, alpha, held ? alpha - held->tie_gap : wrap(in.v - phi));
     if (convex) project_psd(e1);
     const SpanDerivatives sd = span_derivatives(e1, c.v);
     energy += sd.e;
@@ -1022,7 +1048,7 @@ class Solver {
   void lock_crossed_ridges(double mu) {
     if (pb_.m.basis != MinEnergyBasis::kElastic) return;
     for (std::size_t s = 0; s < ns_; ++s) {
-      if (on_ridge(trial_, s)) continue;
+      if (holding(trial_, s)) continue;
       const auto [a0, b0] = end_angles(pb_, st_, s);
       const auto [a1, b1] = end_angles(trial_, tst_, s);
       if (!detail::elastica_ridge_capable(a1, b1) || (a0 - b0) * (a1 - b1) > 0.0) continue;
@@ -1282,21 +1308,6 @@ class Solver {
         if (sl.active >= 0) held_torque_[si] += torque;
       }
     }
-    // The elastic spline's pair bounds |α − β| = |θ_i + corner − θ_j| <= π, as the held boxes:
-    // a barrier of weight kHeldBarrier (the chord's angle cancels in α − β).
-    for (std::size_t s = 0; s < ns_ && pb_.m.basis == MinEnergyBasis::kElastic; ++s) {
-      if (on_ridge(pb_, s)) continue;
-      const Node& a = pb_.node[s];
-      const Node& b = pb_.node[pb_.next(s)];
-      const Jet d = difference(slot_jet(pb_, pb_.slot[a.out]), slot_jet(pb_, pb_.slot[b.in]));
-      if (d.m == 0) continue;
-      const auto [al, be] = end_angles(pb_, st_, s);
-      const double x = al - be;
-      const double lo = std::max(kPi + x, kBoxRounding * kPi),
-                   hi = std::max(kPi - x, kBoxRounding * kPi);
-      add_function(d, held_weight_[s] * (1.0 / hi - 1.0 / lo),
-                   held_weight_[s] * (1.0 / (hi * hi) + 1.0 / (lo * lo)));
-    }
     for (const Node& nd : pb_.node) {
       if (mu == 0.0 || nd.var < 0 || nd.boundary) continue;
       const Vec2 off = nd.o;
@@ -1370,7 +1381,7 @@ class Solver {
       }
       for (int s : {nd.in, nd.out}) {
         if (s < 0 || pb_.slot[s].tie < 0) continue;
-        slot_wrong_[s] = f * ridge_excess(static_cast<std::size_t>(s));
+        slot_wrong_[s] = f * tie_excess(static_cast<std::size_t>(s));
         here = std::max(here, slot_wrong_[s]);
         if (slot_wrong_[s] > wrong) {
           wrong = slot_wrong_[s];
@@ -1399,8 +1410,13 @@ class Solver {
   // it holds): moving either end alone off the ridge by ε changes E by ε times its torque plus
   // the half-width times |ε|. A ridge released twice stays locked (the half-width is a
   // difference of one-sided derivatives and may not be sharp enough to decide).
-  double ridge_excess(std::size_t k) const {
+  double tie_excess(std::size_t k) const {
     const Slot& sl = pb_.slot[k];
+    if (sl.tie_gap != 0.0) {
+      // On a pair bound: the multiplier's wrong sign, the torque that turns k inwards.
+      const bool is_in = pb_.node[pb_.next(sl.tie_span)].in == static_cast<int>(k);
+      return std::max(0.0, (is_in ? -1.0 : 1.0) * std::copysign(1.0, sl.tie_gap) * raw_.slot[k]);
+    }
     if (ridge_releases_.size() > k && ridge_releases_[k] >= 2) return 0.0;
     const std::size_t owner = static_cast<std::size_t>(sl.tie);
     const std::size_t s = sl.tie_span;
@@ -1588,11 +1604,12 @@ class Solver {
     ridge_releases_.resize(pb_.slot.size(), 0);
     for (std::size_t k = 0; k < pb_.slot.size(); ++k) {
       if (slot_wrong_[k] > target && pb_.slot[k].tie >= 0) {
-        // Off the ridge on the side where the larger force points downhill.
+        // Off the ridge on the side where the larger force points downhill; off a pair bound
+        // inwards (the torque's wrong sign).
         const std::size_t owner = static_cast<std::size_t>(pb_.slot[k].tie);
         const Slot& o = pb_.slot[owner];
-        const bool by_owner =
-            !o.fixed && o.active < 0 && std::abs(raw_.slot[owner]) > std::abs(raw_.slot[k]);
+        const bool by_owner = pb_.slot[k].tie_gap == 0.0 && !o.fixed && o.active < 0 &&
+                              std::abs(raw_.slot[owner]) > std::abs(raw_.slot[k]);
         const double torque = by_owner ? -raw_.slot[owner] : raw_.slot[k];
         untie(pb_, k, torque);
         ++ridge_releases_[k];
@@ -1880,7 +1897,7 @@ Outcome solve(Problem& pb, State& st, const MinEnergyOptions& options, bool barr
   // Spans the elastic interpolation left on a ridge start locked on it.
   for (std::size_t s = 0; s < pb.spans() && pb.m.basis == MinEnergyBasis::kElastic; ++s) {
     const auto [al, be] = end_angles(pb, st, s);
-    if (!on_ridge(pb, s) && std::abs(al - be) <= kOnRidge &&
+    if (!holding(pb, s) && std::abs(al - be) <= kOnRidge &&
         detail::elastica_ridge_capable(al, be)) {
       tie_ridge(pb, st, s, true);
     }
