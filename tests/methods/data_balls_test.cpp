@@ -554,7 +554,7 @@ TEST(DataBalls, AConcaveSpanBetweenFreeEndsDoesNotSlowTheRest) {
 
 // The optimizer may say that it did not converge (an error, never a silent wrong curve), on a few
 // of these harsh inputs: on at most 1 in 20 of the cases for the bases of the energy's smooth
-// part, and 2 in 5 for the elastic spline, whose half turns it does not handle (rates measured by
+// part, and 2 in 5 for the elastic spline, whose box corners it does not handle (rates measured by
 // the stress suite: docs/hardening.md, "Data balls"). What it returns is a local optimum, except,
 // open, in a few cases in a hundred runs (counted, bounded at 1 in 20).
 void every_state_combination(int& cases, int& elastic_cases, int& not_converged,
