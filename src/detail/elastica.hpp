@@ -10,6 +10,7 @@
 #pragma once
 
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "fairspline/cubic_bezier.hpp"
@@ -44,6 +45,10 @@ struct ElasticaEnergy {
 /// gradient returned is the mean of the two one-sided ones. About 0.8 µs in the box, 7 µs
 /// outside it; for max(|α|, |β|) ≤ 1e-4 the degree-4 Taylor polynomial (docs).
 ElasticaEnergy elastica_energy(double alpha, double beta);
+
+/// The s-curves' pair constraint |α − β| <= this, just inside 180°, where E_1 is finite (both
+/// the interpolation and the data-ball optimizer hold their pieces to it).
+inline constexpr double kElasticaPairLimit = std::numbers::pi * (1.0 - 1e-12);
 
 /// Past this turn a U-turn piece with both turns full exists on α = β, and E_1 has a convex kink
 /// across the diagonal there (a V in α − β: a ridge, docs/methods/elastic.md).

@@ -70,11 +70,13 @@ struct Slot {
   int active = -1;  // which box holds it, or −1
   int sign = 0;     // +1 at its upper bound, −1 at its lower one
   int var = -1;
-  // Tied to another slot (the elastic spline's ridge lock): θ = slot[tie].θ + tie_offset.
+  // Tied to another slot (the elastic spline's ridges and pair bounds): θ = slot[tie].θ +
+  // tie_offset.
   int tie = -1;
   double tie_offset = 0.0;
   std::size_t tie_span = 0;  // the span it holds
-  double tie_gap = 0.0;      // that span's α − β: 0 on a ridge, ±kPairLimit on its pair bound
+  double tie_gap =
+      0.0;  // that span's α − β: 0 on a ridge, ±detail::kElasticaPairLimit on its pair bound
 };
 
 // A position is kept as its offset from the centre: a chord between near-repeated centres is
@@ -192,12 +194,8 @@ double box_deviation(const Slot& sl, int k, const State& st) {
   return wrap(sl.theta + sl.offset[k] - st.phi[sl.span[k]]);
 }
 
-/// The elastic pair constraints |α − β| <= this sit just inside 180°, where E_1 is finite (as in
-/// the interpolation).
-constexpr double kPairLimit = kPi * (1.0 - 1e-12);
-
 // The slot that holds span s (one end's slot tied to the other's: on a ridge α = β, on its pair
-// bound α − β = ±kPairLimit), or null.
+// bound α − β = ±detail::kElasticaPairLimit), or null.
 const Slot* holding(const Problem& pb, std::size_t s) {
   const int out = pb.node[s].out, in = pb.node[pb.next(s)].in;
   if (pb.slot[in].tie == out) return &pb.slot[in];
@@ -238,7 +236,7 @@ double total_energy(const Problem& pb, const State& st) {
   return e;
 }
 
-bool tie_span(Problem& pb, const State& st, std::size_t s, double gap);
+bool tie_span(Problem& pb, std::size_t s, double gap);
 
 // Puts every active slot on its bound and clips the others into their boxes (activating them
 // there). False when a box cannot be met (the positions turned a stencil beyond 2Ω, or moved a
@@ -268,13 +266,13 @@ bool settle(Problem& pb, const State& st, bool clip = true) {
   for (Slot& sl : pb.slot) {
     if (sl.tie >= 0) sl.theta = pb.slot[sl.tie].theta + sl.tie_offset;
   }
-  // The elastic spline's pair bounds |α − β| <= kPairLimit (the chord cancels in α − β): a span
-  // past one is put on it, held by a tie (its multiplier is the tie's torque).
+  // The elastic spline's pair bounds |α − β| <= detail::kElasticaPairLimit (the chord cancels in α
+  // − β): a span past one is put on it, held by a tie (its multiplier is the tie's torque).
   for (std::size_t s = 0; s < pb.spans() && pb.m.basis == MinEnergyBasis::kElastic; ++s) {
     if (holding(pb, s)) continue;
     const auto [al, be] = end_angles(pb, st, s);
-    if (std::abs(al - be) <= kPairLimit) continue;
-    if (!clip || !tie_span(pb, st, s, std::copysign(kPairLimit, al - be))) return false;
+    if (std::abs(al - be) <= detail::kElasticaPairLimit) continue;
+    if (!clip || !tie_span(pb, s, std::copysign(detail::kElasticaPairLimit, al - be))) return false;
   }
   for (Slot& sl : pb.slot) {
     if (sl.tie < 0) continue;
@@ -292,12 +290,11 @@ constexpr double kRidgeStep = 1e-7;
 /// A span whose end angles differ by at most this (rad) on a ridge is on it (rounding).
 constexpr double kOnRidge = 1e-9;
 
-// Holds span s of the elastic spline at α − β = gap (0: its ridge; ±kPairLimit: its pair bound)
-// by tying one end's slot (a free one that no other slot is tied to) to the other's. On a ridge
-// both move to their mean direction where both are free; on a pair bound the tied one alone
+// Holds span s of the elastic spline at α − β = gap (0: its ridge; ±detail::kElasticaPairLimit: its
+// pair bound) by tying one end's slot (a free one that no other slot is tied to) to the other's. On
+// a ridge both move to their mean direction where both are free; on a pair bound the tied one alone
 // moves onto it. False, with nothing changed, where no slot is free. The caller settles.
-bool tie_span(Problem& pb, const State& st, std::size_t s, double gap) {
-  (void)st;
+bool tie_span(Problem& pb, std::size_t s, double gap) {
   const int out = pb.node[s].out, in = pb.node[pb.next(s)].in;
   const Node& a = pb.node[s];
   const double corner = a.in == a.out ? a.corner : 0.0;
@@ -330,12 +327,12 @@ bool tie_span(Problem& pb, const State& st, std::size_t s, double gap) {
 // possible or leaves a box.
 bool tie_ridge(Problem& pb, const State& st, std::size_t s, bool clip) {
   const std::vector<Slot> before = pb.slot;
-  if (tie_span(pb, st, s, 0.0) && settle(pb, st, clip)) return true;
+  if (tie_span(pb, s, 0.0) && settle(pb, st, clip)) return true;
   pb.slot = before;
   return false;
 }
 
-// Frees tied slot k, moved off the ridge by kRidgeStep against the force `torque` on it.
+// Frees tied slot k, moved off its ridge or pair bound by kRidgeStep against the torque on it.
 void untie(Problem& pb, std::size_t k, double torque) {
   Slot& sl = pb.slot[k];
   sl.tie = -1;
@@ -1406,9 +1403,10 @@ class Solver {
     unresolved_ = unresolved;
   }
 
-  // How far the force through tied slot k's ridge exceeds the kink's half-width (negative while
-  // it holds): moving either end alone off the ridge by ε changes E by ε times its torque plus
-  // the half-width times |ε|. A ridge released twice stays locked (the half-width is a
+  // How far the torque on tied slot k says its tie should go (0 while it holds). On a ridge: by
+  // how much it exceeds the kink's half-width (moving either end alone off the ridge by ε
+  // changes E by ε times its torque plus the half-width times |ε|); on a pair bound: its
+  // multiplier's wrong sign. A ridge released twice stays locked (the half-width is a
   // difference of one-sided derivatives and may not be sharp enough to decide).
   double tie_excess(std::size_t k) const {
     const Slot& sl = pb_.slot[k];

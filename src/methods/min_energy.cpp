@@ -1117,7 +1117,7 @@ struct PairBounds {
 };
 
 /// The elastic pair constraints |α − β| <= this sit just inside 180°, where E_1 is finite.
-constexpr double kPairLimit = kPi * (1.0 - 1e-12);
+constexpr double kPairLimit = detail::kElasticaPairLimit;
 
 PairBounds pair_bounds(const Chain& ch, double limit) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
