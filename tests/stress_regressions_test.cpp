@@ -141,6 +141,15 @@ const std::vector<std::string> kInputs = {
     // that shifts of 1e2..1e4 (negative curvature elsewhere) moved 5e-10 r per step.
     "quasi-elastic-balls-not_converged-noisy-s1-c307.json",
     "quasi-elastic-balls-not_converged-noisy-s3-c165.json",
+    // Near-repeated pairs with balls (chords 1e-8 and 5e-5 beside chords of 1 to 60, one
+    // next to a corner): the short spans' stiff energy held both ends to a chord the balls
+    // turn, a curved valley that Newton crept along at a shift for 1000 iterations, in every
+    // basis. Their directions now follow that chord (follow_short_chords).
+    "quasi-elastic-balls-not_converged-s61-c29.json",
+    "yong-cheng-balls-not_converged-s61-c29.json",
+    "elastic-balls-not_converged-s61-c29.json",
+    "restricted-elastic-balls-not_converged-s61-c150.json",
+    "jaklic-zagar-balls-not_converged-s61-c150.json",
     // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball.
     "quasi-elastic-balls-not_converged-s45-c742.json",
     // The elastic spline with balls where a U-turn piece sits on its ridge α = β (a convex

@@ -40,13 +40,16 @@ double wrap(double a) {
   return std::abs(a) <= kPi ? a : std::remainder(a, 2.0 * kPi);
 }
 
-// A quantity with its first and second derivatives with respect to up to four unknowns.
+// A quantity with its first and second derivatives with respect to up to ten unknowns (a
+// direction tied to one that follows a chord, less another chord's angle: the positions of
+// four nodes and one direction; see follow_short_chords).
 struct Jet {
+  static constexpr int kMax = 10;
   double v = 0.0;
   int m = 0;
-  std::array<int, 6> idx{};
-  std::array<double, 6> d{};
-  std::array<std::array<double, 6>, 6> h{};
+  std::array<int, kMax> idx{};
+  std::array<double, kMax> d{};
+  std::array<std::array<double, kMax>, kMax> h{};
 };
 
 // The same for a vector (a position or a chord).
@@ -70,6 +73,10 @@ struct Slot {
   int active = -1;  // which box holds it, or −1
   int sign = 0;     // +1 at its upper bound, −1 at its lower one
   int var = -1;
+  // Its unknown is measured from this span's chord angle (θ = φ_follow + δ), or −1: at a span
+  // much shorter than its neighbours, whose stiff energy pins both ends to its chord while the
+  // balls turn that chord (see follow_short_chords).
+  int follow = -1;
   // Tied to another slot (the elastic spline's ridges and pair bounds): θ = slot[tie].θ +
   // tie_offset.
   int tie = -1;
@@ -402,7 +409,16 @@ Jet slot_jet(const Problem& pb, const Slot& sl) {
   if (sl.tie >= 0) j = slot_jet(pb, pb.slot[static_cast<std::size_t>(sl.tie)]);
   j.v = sl.theta;
   if (sl.tie >= 0) return j;
-  if (sl.var >= 0) {
+  if (sl.var >= 0 && sl.follow >= 0) {
+    const std::size_t s = static_cast<std::size_t>(sl.follow);
+    const std::size_t t = pb.next(s);
+    j = angle(chord(position(pb.node[s]), position(pb.node[t]), pb.node[t].q - pb.node[s].q));
+    j.v = sl.theta;
+    j.idx[j.m] = sl.var;
+    j.d[j.m] = 1.0;
+    for (int k = 0; k <= j.m; ++k) j.h[j.m][k] = j.h[k][j.m] = 0.0;
+    ++j.m;
+  } else if (sl.var >= 0) {
     j.m = 1;
     j.idx[0] = sl.var;
     j.d[0] = 1.0;
@@ -419,7 +435,7 @@ Jet slot_jet(const Problem& pb, const Slot& sl) {
 Jet difference(const Jet& a, const Jet& b) {
   Jet j = a;
   j.v = a.v - b.v;
-  std::array<int, 4> at{};
+  std::array<int, Jet::kMax> at{};
   for (int q = 0; q < b.m; ++q) {
     int k = 0;
     while (k < j.m && j.idx[k] != b.idx[q]) ++k;
@@ -461,6 +477,37 @@ void project_psd(BasicEnergy& e) {
   e.ebb = hi * vy * vy / nv;
 }
 
+// A span this much shorter than a neighbour is short (follow_short_chords).
+constexpr double kShortChord = 1e-2;
+
+// The free directions beside a short span measure their unknown from its chord. Its energy,
+// 1/L times its neighbours', holds both ends within a hair of that chord while the balls turn
+// it: in absolute angles that valley is curved (the chord's angle is nonlinear in the
+// positions on the scale of the radii), and Newton steps along it crept at a shift that
+// held every other unknown back (s61-c29: 1000 iterations). Measured from the chord, the
+// valley is straight.
+void follow_short_chords(Problem& pb) {
+  const std::size_t ns = pb.spans();
+  std::vector<double> len(ns);
+  for (std::size_t s = 0; s < ns; ++s) len[s] = distance(pb.node[s].q, pb.node[pb.next(s)].q);
+  auto neighbour = [&](std::size_t s, bool before) -> double {
+    if (!pb.closed && (before ? s == 0 : s + 1 == ns)) return 0.0;
+    return len[before ? (s == 0 ? ns - 1 : s - 1) : (s + 1 == ns ? 0 : s + 1)];
+  };
+  for (std::size_t s = 0; s < ns; ++s) {
+    const std::size_t t = pb.next(s);
+    if (pb.node[s].r == 0.0 && pb.node[t].r == 0.0) continue;  // a fixed chord
+    if (!(len[s] < kShortChord * std::max(neighbour(s, true), neighbour(s, false)))) continue;
+    for (int k : {pb.node[s].out, pb.node[t].in}) {
+      Slot& sl = pb.slot[static_cast<std::size_t>(k)];
+      if (sl.fixed) continue;
+      if (sl.follow < 0 || len[s] < len[static_cast<std::size_t>(sl.follow)]) {
+        sl.follow = static_cast<int>(s);
+      }
+    }
+  }
+}
+
 // Raw partial derivatives: per slot ∂E/∂θ, per node ∂E/∂p (the other raw quantities held).
 struct Raw {
   std::vector<double> slot;
@@ -480,8 +527,11 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
   raw.slot.assign(pb.slot.size(), 0.0);
   raw.node.assign(pb.node.size(), Vec2{});
   raw.span.resize(pb.spans());
+  // A span's unknowns: the positions of up to six nodes (a tied end follows its owner's chord
+  // or bound, one span further) and two directions.
+  constexpr int kSpanUnknowns = 14;
   struct Local {
-    std::array<int, 12> idx{};
+    std::array<int, kSpanUnknowns> idx{};
     int m = 0;
     int at(int v) {
       for (int k = 0; k < m; ++k) {
@@ -507,8 +557,11 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
     auto see_slot = [&](const Slot& tied) {
       const Slot& sl = tied.tie >= 0 ? pb.slot[static_cast<std::size_t>(tied.tie)] : tied;
       see(sl.var, 1);
-      if (sl.active >= 0) {
-        const std::size_t t = sl.span[sl.active];
+      // (a direction on a bound, or one that follows a chord, moves with that chord's ends)
+      const int on =
+          sl.active >= 0 ? static_cast<int>(sl.span[sl.active]) : (sl.var >= 0 ? sl.follow : -1);
+      if (on >= 0) {
+        const std::size_t t = static_cast<std::size_t>(on);
         see_node(pb.node[t]);
         see_node(pb.node[pb.next(t)]);
       }
@@ -542,10 +595,10 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
     raw.node[j] += Vec2{sd.g[2], sd.g[3]};
     // Chain rule: J (4 raw × m local) and the raw quantities' own second derivatives.
     Local loc;
-    std::array<std::array<double, 12>, 4> jac{};
-    std::array<std::array<double, 12>, 12> second{};
+    std::array<std::array<double, kSpanUnknowns>, 4> jac{};
+    std::array<std::array<double, kSpanUnknowns>, kSpanUnknowns> second{};
     auto scalar = [&](const Jet& x, int row) {
-      std::array<int, 6> at{};
+      std::array<int, Jet::kMax> at{};
       for (int k = 0; k < x.m; ++k) at[k] = loc.at(x.idx[k]);
       for (int k = 0; k < x.m; ++k) {
         jac[row][at[k]] += x.d[k];
@@ -565,7 +618,7 @@ double assemble(const Problem& pb, const State& st, std::span<const double> scal
         }
       }
     }
-    std::array<std::array<double, 12>, 4> hj{};  // h · J
+    std::array<std::array<double, kSpanUnknowns>, 4> hj{};  // h · J
     for (int r = 0; r < 4; ++r) {
       for (int u = 0; u < loc.m; ++u) {
         double sum = 0.0;
@@ -1766,6 +1819,12 @@ class Solver {
       }
     }
     chord_angles(trial_, tst_);
+    for (Slot& sl : trial_.slot) {
+      if (sl.var >= 0 && sl.follow >= 0) {
+        const std::size_t f = static_cast<std::size_t>(sl.follow);
+        sl.theta += wrap(tst_.phi[f] - st_.phi[f]);
+      }
+    }
     return settle(trial_, tst_, mu == 0.0);
   }
 
@@ -2084,6 +2143,7 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
     si.span[si.nbox] = s;
     si.offset[si.nbox++] = 0.0;
   }
+  follow_short_chords(pb);
   State st;
   chord_angles(pb, st);
   // Directions the interpolation left on a bound start active there.
