@@ -150,6 +150,11 @@ const std::vector<std::string> kInputs = {
     "elastic-balls-not_converged-s61-c29.json",
     "restricted-elastic-balls-not_converged-s61-c150.json",
     "jaklic-zagar-balls-not_converged-s61-c150.json",
+    // A ball released for a wrong-signed multiplier (8e-5) that every Newton step took back
+    // out, so that it was held on its circle again, to the iteration cap: after three such
+    // bounces it now descends alone into its disc.
+    "quasi-elastic-balls-not_converged-s19-c499.json",
+    "jaklic-zagar-balls-not_converged-s19-c16.json",
     // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball.
     "quasi-elastic-balls-not_converged-s45-c742.json",
     // The elastic spline with balls where a U-turn piece sits on its ridge α = β (a convex

@@ -711,6 +711,8 @@ constexpr double kMostExpansion = 1024.0;
 /// The first barrier of a restart after a stall: weak enough to keep the point near where it
 /// stalled, strong enough to pull the positions off their circles and re-decide which hold.
 constexpr double kRestartBarrier = 1e-6;
+/// A released ball that the Newton step takes back out this often descends alone instead.
+constexpr int kBounces = 3;
 
 // Stopped at the precision the data allow: converged to every node's rounding floor, or no step
 // lowers the energy within kConditioningResidual (or the floor).
@@ -1518,17 +1520,52 @@ class Solver {
 
   bool hold_pushed_out() {
     bool any = false;
+    bounced_.resize(n_, 0);
     for (std::size_t i = 0; i < n_; ++i) {
       Node& nd = pb_.node[i];
       if (nd.var < 0 || nd.boundary) continue;
       const Vec2 off = nd.o;
       const Vec2 d = displacement(nd);
       if (norm(off) < nd.r * (1.0 - 1e-12) || dot(off, d) <= 0.0) continue;
+      if (++bounced_[i] > kBounces && descend_inward(i)) {
+        bounced_[i] = 0;
+        any = true;
+        continue;
+      }
       put_on_circle(nd);
       held_[i] = 1;
       any = true;
     }
     return any;
+  }
+
+  // A ball released for a wrong-signed multiplier that every Newton step since took outward
+  // again (kBounces times): it moves alone along the energy's descent, into its disc, with a
+  // backtracking search (the directions held). Else it went back onto its circle each time,
+  // the multiplier unchanged, to the iteration cap (s19-c499, 8e-5 at one ball).
+  bool descend_inward(std::size_t i) {
+    const Vec2 g = force(i);
+    const double gn = norm(g);
+    if (!(gn > 0.0)) return false;
+    const double e0 = total_energy(pb_, st_);
+    for (double t = 0.5; t >= 1e-6; t *= 0.25) {
+      Problem p = pb_;
+      Node& nd = p.node[i];
+      const Vec2 off = nd.o - (t * nd.r / gn) * g;
+      if (!(norm(off) < nd.r)) continue;
+      nd.o = off;
+      nd.boundary = false;
+      State s;
+      chord_angles(p, s);
+      if (!settle(p, s, false)) continue;
+      const double e = total_energy(p, s);
+      if (e < e0 - 1e-4 * t * nd.r * gn) {
+        std::swap(pb_, p);
+        std::swap(st_, s);
+        return true;
+      }
+    }
+    return false;
   }
 
   // A free direction on a bound to rounding (kSqueezed·Ω) whose torque pushes it out goes onto
@@ -1851,6 +1888,7 @@ class Solver {
   std::vector<double> slot_strict_;    // per slot: its multiplier's wrong sign, span-scaled
   std::vector<char> strict_released_;  // per slot: released by release_strict this solve
   std::vector<char> held_;
+  std::vector<int> bounced_;  // per node: how often a step took it back out (hold_pushed_out)
   BorderedBand h_, hp_;
   Raw raw_;
   Problem trial_;
