@@ -404,15 +404,19 @@ std::size_t number_unknowns(Problem& pb, std::vector<double>& scale, bool positi
   return scale.size() - band;
 }
 
+// Span s's chord angle φ_s as a jet in its ends' position unknowns.
+Jet chord_angle(const Problem& pb, std::size_t s) {
+  const std::size_t t = pb.next(s);
+  return angle(chord(position(pb.node[s]), position(pb.node[t]), pb.node[t].q - pb.node[s].q));
+}
+
 Jet slot_jet(const Problem& pb, const Slot& sl) {
   Jet j;
   if (sl.tie >= 0) j = slot_jet(pb, pb.slot[static_cast<std::size_t>(sl.tie)]);
   j.v = sl.theta;
   if (sl.tie >= 0) return j;
   if (sl.var >= 0 && sl.follow >= 0) {
-    const std::size_t s = static_cast<std::size_t>(sl.follow);
-    const std::size_t t = pb.next(s);
-    j = angle(chord(position(pb.node[s]), position(pb.node[t]), pb.node[t].q - pb.node[s].q));
+    j = chord_angle(pb, static_cast<std::size_t>(sl.follow));
     j.v = sl.theta;
     j.idx[j.m] = sl.var;
     j.d[j.m] = 1.0;
@@ -423,9 +427,7 @@ Jet slot_jet(const Problem& pb, const Slot& sl) {
     j.idx[0] = sl.var;
     j.d[0] = 1.0;
   } else if (sl.active >= 0) {
-    const std::size_t s = sl.span[sl.active];
-    const std::size_t t = pb.next(s);
-    j = angle(chord(position(pb.node[s]), position(pb.node[t]), pb.node[t].q - pb.node[s].q));
+    j = chord_angle(pb, sl.span[sl.active]);
     j.v = sl.theta;
   }
   return j;
@@ -771,6 +773,7 @@ class Solver {
     relative_rounding_ = is_elastic(pb.m.basis) ? 1e-12 : 1e-15;
     max_iterations_ = detail::iteration_limit(options);
     held_.assign(n_, 0);
+    bounced_.assign(n_, 0);
   }
 
   double tol = 0.0;
@@ -1346,12 +1349,9 @@ class Solver {
       for (int k = 0; k < sl.nbox; ++k) {
         const double w = box_weight(sl, k, mu);
         if (w == 0.0) continue;
-        const std::size_t t = sl.span[k];
         // dev = θ + offset − φ_t: θ as the slot's jet (a free unknown, or its own chord's angle
         // when it sits on a bound).
-        const Jet dev = difference(
-            slot_jet(pb_, sl), angle(chord(position(pb_.node[t]), position(pb_.node[pb_.next(t)]),
-                                           pb_.node[pb_.next(t)].q - pb_.node[t].q)));
+        const Jet dev = difference(slot_jet(pb_, sl), chord_angle(pb_, sl.span[k]));
         const double x = box_deviation(sl, k, st_);
         const double lo = std::max(om + x, kBoxRounding * om),
                      hi = std::max(om - x, kBoxRounding * om);
@@ -1520,7 +1520,6 @@ class Solver {
 
   bool hold_pushed_out() {
     bool any = false;
-    bounced_.resize(n_, 0);
     for (std::size_t i = 0; i < n_; ++i) {
       Node& nd = pb_.node[i];
       if (nd.var < 0 || nd.boundary) continue;
