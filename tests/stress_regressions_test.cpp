@@ -155,6 +155,17 @@ const std::vector<std::string> kInputs = {
     // bounces it now descends alone into its disc.
     "quasi-elastic-balls-not_converged-s19-c499.json",
     "jaklic-zagar-balls-not_converged-s19-c16.json",
+    // The elastic spline's output refit disagreeing with the ball optimum (s63): c182, a
+    // closed hairpin where the refit found a lower minimum and the optimizer went on from a
+    // mix of both (the slots beside a half-turn piece kept); c294, a warm direction in a U-turn
+    // node's second interval, which the refit clamped into the first; c316, a warm start with
+    // a piece on its pair bound to the rounding, refused for not lying strictly inside it.
+    "elastic-balls-not_converged-s63-c182.json",
+    "elastic-balls-not_converged-s63-c294.json",
+    "elastic-balls-not_converged-s63-c316.json",
+    // A closed 3-point curve where the elastic optimizer stalled at a kink (residual 0.1) and
+    // threw; a restart from the output refit's directions settles it.
+    "elastic-balls-not_converged-s47-c172.json",
     // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball.
     "quasi-elastic-balls-not_converged-s45-c742.json",
     // The elastic spline with balls where a U-turn piece sits on its ridge α = β (a convex

@@ -1648,6 +1648,32 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   return res;
 }
 
+/// A two-sided node's directions within Ω of both chords form two intervals when its stencil
+/// turns by more than 2(180° − Ω): one about the chords' bisector, which the offsets a = −ψ/2,
+/// b = ψ/2 and the box [lo, hi] describe, and one about the reversed bisector, where one of
+/// x + a, x + b leaves (−180°, 180°]. If direction x (from ch.x, its angle from ref) lies in
+/// the second, that offset is taken a full turn back and the box is the second interval, so
+/// that α and β are again the direction's angles with the chords, as a data-ball optimizer
+/// reads them. False, with nothing changed, if x lies in neither.
+bool reach_other_arc(Chain& ch, std::size_t t, double omega) {
+  constexpr double kTurn = 2.0 * kPi;
+  for (const double dx : {0.0, kTurn, -kTurn}) {
+    const double x = ch.x[t] + dx;
+    for (const auto& [da, db] :
+         {std::pair{-kTurn, 0.0}, {0.0, -kTurn}, {kTurn, 0.0}, {0.0, kTurn}}) {
+      const double a = ch.a[t] + da, b = ch.b[t] + db;
+      if (!(std::abs(x + a) <= omega && std::abs(x + b) <= omega)) continue;
+      ch.a[t] = a;
+      ch.b[t] = b;
+      ch.lo[t] = std::max(-omega - a, -omega - b);
+      ch.hi[t] = std::min(omega - a, omega - b);
+      ch.x[t] = x;
+      return true;
+    }
+  }
+  return false;
+}
+
 /// The elastic basis on one chain: first the restricted elastic spline (boxes |α|, |β| <= 90°,
 /// where every pair is feasible; a clamped neighbour's pair becomes a box), then the
 /// active-set Newton on the whole s-curve domain from there. The unrestricted energy has
@@ -1658,6 +1684,25 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
   const std::size_t k = ch.node.size(), segs = ch.segments();
   const PairBounds pb = pair_bounds(ch, kPairLimit);
   if (warm) {
+    // Where the warm direction lies outside the node's box it may lie in the box's second
+    // interval: one offset a full turn back (reach_other_arc). Undone if the start is not taken.
+    struct Turned {
+      std::size_t t;
+      double a, b, lo, hi;
+    };
+    std::vector<Turned> turned;
+    const double omega = std::min(opt.method.omega, kPairLimit);
+    for (std::size_t t = 0; t < k; ++t) {
+      if (ch.fixed[t] || (ch.lo[t] <= ch.x[t] && ch.x[t] <= ch.hi[t])) continue;
+      const Turned was{t, ch.a[t], ch.b[t], ch.lo[t], ch.hi[t]};
+      const bool two_sided = ch.closed || (t > 0 && t + 1 < k);
+      if (two_sided && reach_other_arc(ch, t, omega)) {
+        turned.push_back(was);
+      } else {
+        ch.x[t] = std::clamp(ch.x[t], ch.lo[t], ch.hi[t]);
+      }
+    }
+    const PairBounds wpb = turned.empty() ? pb : pair_bounds(ch, kPairLimit);
     // Its end angles strictly inside the s-curves' domain: on a box at 180° an angle wraps
     // (a closed curve with a half turn then met an infeasible piece).
     bool inside = true;
@@ -1668,9 +1713,19 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
     }
     for (std::size_t s = 0; s < segs && inside; ++s) {
       const double v = ch.x[s] - ch.x[s + 1 == k ? 0 : s + 1];
-      inside = pb.lo[s] < v && v < pb.hi[s];
+      // On a pair bound where the optimum held it, to the rounding of the directions' angles
+      // (kPairLimit leaves 3e-12 to 180°).
+      constexpr double kOnBound = 1e-13;
+      inside = wpb.lo[s] - kOnBound <= v && v <= wpb.hi[s] + kOnBound;
     }
-    if (inside) return optimize_coupled(ch, opt, gscale, pb);
+    if (inside) return optimize_coupled(ch, opt, gscale, wpb);
+    for (const Turned& u : turned) {
+      ch.a[u.t] = u.a;
+      ch.b[u.t] = u.b;
+      ch.lo[u.t] = u.lo;
+      ch.hi[u.t] = u.hi;
+      ch.x[u.t] = std::clamp(ch.x[u.t], u.lo, u.hi);
+    }
   }
   Chain start = ch;
   // Held: fixed, or a restricted box found empty below. Each node's box is also bounded by its
@@ -2029,8 +2084,10 @@ std::vector<Chain> build_chains(const FitResult& out, const FitInput& input, dou
 }
 
 /// Starts each free direction of the chains at the directions `warm` gives its spans (a data-
-/// ball fit refitting its optimum), within the node's box.
-void start_from(const detail::SpanDirections& warm, std::size_t n, std::vector<Chain>& chains) {
+/// ball fit refitting its optimum), within the node's box (elastic: as given, for
+/// optimize_elastic to place in one of the box's intervals).
+void start_from(const detail::SpanDirections& warm, std::size_t n, bool elastic,
+                std::vector<Chain>& chains) {
   for (Chain& ch : chains) {
     const std::size_t k = ch.node.size();
     for (std::size_t t = 0; t < k; ++t) {
@@ -2039,7 +2096,7 @@ void start_from(const detail::SpanDirections& warm, std::size_t n, std::vector<C
       const std::size_t i = ch.node[t];
       const Vec2 d = has_prev ? warm[i == 0 ? n - 1 : i - 1][1] : warm[i][0];
       const double x = std::atan2(cross(ch.ref[t], d), dot(ch.ref[t], d));
-      ch.x[t] = std::clamp(x, ch.lo[t], ch.hi[t]);
+      ch.x[t] = elastic ? x : std::clamp(x, ch.lo[t], ch.hi[t]);
     }
   }
 }
@@ -2303,7 +2360,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
   // Both outlive the chains; `arena` is released once they are optimized.
   std::optional<FitArena> arena, kept;
   std::vector<Chain> chains = build_chains(out, input, omega, m.basis, &arena, &kept);
-  if (warm) start_from(*warm, n, chains);
+  if (warm) start_from(*warm, n, m.basis == MinEnergyBasis::kElastic, chains);
   if (dirs) dirs->resize(out.closed ? n : n - 1);
   const bool elastic = is_elastic(m.basis);
   // Elastic bases: the Béziers of each span, assembled in span order at the end.
