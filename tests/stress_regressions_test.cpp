@@ -166,6 +166,10 @@ const std::vector<std::string> kInputs = {
     // A closed 3-point curve where the elastic optimizer stalled at a kink (residual 0.1) and
     // threw; a restart from the output refit's directions settles it.
     "elastic-balls-not_converged-s47-c172.json",
+    // A ball of 6.7e-12 beside a plain point 1.7e-11 away: rounding the positions turns that
+    // chord by 7e-5 rad; the freeze's second solve stopped at the precision limit and was
+    // reverted, and the output refit followed the rounded chord at an energy 3e-4 higher.
+    "elastic-balls-not_converged-s63-c237.json",
     // Open (kOpen): a 146-point perturbed circle with a vertex beside a free ball.
     "quasi-elastic-balls-not_converged-s45-c742.json",
     // The elastic spline with balls where a U-turn piece sits on its ridge α = β (a convex

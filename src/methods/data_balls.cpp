@@ -2261,9 +2261,12 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       chord_angles(pb, st);
       Outcome again;
       if (settle(pb, st)) again = solve(pb, st, options, false);
-      // Kept when it converges, or stops at the precision limit no worse than the first.
+      // Kept when it converges or stops at the precision limit: the curve is built on the
+      // rounded chords, so this is its optimum as far as doubles resolve it (reverted, the
+      // output refit turned a 2e-11 chord's directions by 7e-5 rad to follow it: s63-c237).
+      // After a first solve that stopped at that limit too, only if no worse.
       if (again.converged ||
-          (stopped_at_precision(again) && !res.converged && again.residual <= res.residual)) {
+          (stopped_at_precision(again) && (res.converged || again.residual <= res.residual))) {
         again.iterations += res.iterations;
         res = again;
       } else {
