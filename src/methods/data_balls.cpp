@@ -729,6 +729,8 @@ bool stopped_at_precision(const Outcome& o) {
 constexpr double kOutputAgreement = 1e-6;
 constexpr double kOutputEnergy = 1e-10;
 constexpr int kOutputRounds = 3;
+/// The least iteration budget of a restart after a stall (see fit_data_balls).
+constexpr int kMinRestartIterations = 50;
 /// A chord that rounding its ends' positions turns by more than this (rad) has them kept as
 /// rounded and the rest optimized again (fit_data_balls).
 constexpr double kRoundedChordTurn = 1e-11;
@@ -2416,7 +2418,15 @@ void fit_data_balls(const FitInput& input, const MinEnergyOptions& options, Repo
       if (has_next && nd.out != nd.in) take(nd.out, got[i][0]);
     }
     settle(pb, st);
-    const Outcome more = solve(pb, st, options, false);
+    // After a stall, a restart that settles does so quickly (s47-c172: 6 iterations); one
+    // that does not is cut at the stalled solve's own count (a 300-point walk spent 20 s at
+    // the cap before reporting the same failure).
+    MinEnergyOptions budget = options;
+    if (unsettled) {
+      budget.max_iterations = std::min(detail::iteration_limit(options),
+                                       std::max(stall.iterations, kMinRestartIterations));
+    }
+    const Outcome more = solve(pb, st, budget, false);
     iterations += more.iterations;
     residual = more.residual;
     converged = more.converged;
