@@ -1065,33 +1065,111 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   return res;
 }
 
+/// A two-sided node's directions within Ω of both chords form two intervals when its stencil
+/// turns by more than 2(180° − Ω): one about the chords' bisector, which the offsets a = −ψ/2,
+/// b = ψ/2 and the box [lo, hi] describe, and one about the reversed bisector, where one of
+/// x + a, x + b leaves (−180°, 180°]. If direction x (from ch.x, its angle from ref) lies in
+/// the second, that offset is taken a full turn back and the box is the second interval, so
+/// that α and β are again the direction's angles with the chords, as a data-ball optimizer
+/// reads them. False, with nothing changed, if x lies in neither.
+bool reach_other_arc(Chain& ch, std::size_t t, double omega) {
+  constexpr double kTurn = 2.0 * kPi;
+  for (const double dx : {0.0, kTurn, -kTurn}) {
+    const double x = ch.x[t] + dx;
+    for (const auto& [da, db] :
+         {std::pair{-kTurn, 0.0}, {0.0, -kTurn}, {kTurn, 0.0}, {0.0, kTurn}}) {
+      const double a = ch.a[t] + da, b = ch.b[t] + db;
+      if (!(std::abs(x + a) <= omega && std::abs(x + b) <= omega)) continue;
+      ch.a[t] = a;
+      ch.b[t] = b;
+      ch.lo[t] = std::max(-omega - a, -omega - b);
+      ch.hi[t] = std::min(omega - a, omega - b);
+      ch.x[t] = x;
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Whether direction x of two-sided node t (its angle from ref) lies within Ω of both chords,
+/// in either of its intervals (reach_other_arc).
+bool within_both_chords(const Chain& ch, std::size_t t, double x, double omega) {
+  constexpr double kTurn = 2.0 * kPi;
+  return std::abs(std::remainder(x + ch.a[t], kTurn)) <= omega &&
+         std::abs(std::remainder(x + ch.b[t], kTurn)) <= omega;
+}
+
+/// The elastic pair constraints |α − β| <= this sit just inside 180°, where E_1 is finite.
+constexpr double kPairLimit = detail::kElasticaPairLimit;
+
+/// Which directions a scan tries for a node: offsets from its direction by multiples of `step`
+/// round the whole circle, those in its box [lo, hi] (`box`) and, for the elastic basis, those
+/// in a two-sided node's second interval (reach_other_arc) for Ω = `other_arc` (0: none).
+struct ScanGrid {
+  double step = kPi / 180.0;
+  bool box = true;
+  double other_arc = 0.0;
+  /// Second intervals narrower than this or the step are skipped (they belong to stencils that
+  /// turn little, round which the curve would wind).
+  double other_width = 0.0;
+};
+
+/// Each free direction to the best of its grid's offsets (the energy of its spans, neighbours
+/// held), Gauss–Seidel sweeps until none moves. True if any moved.
+bool scan_directions(Chain& ch, const BasicCurveMethod& m, const ScanGrid& grid) {
+  const std::size_t k = ch.node.size();
+  const int half = static_cast<int>(std::lround(kPi / grid.step));
+  bool moved = false;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t t = 0; t < k; ++t) {
+      if (ch.fixed[t]) continue;
+      const bool other = grid.other_arc > 0.0 && (ch.closed || (t > 0 && t + 1 < k)) &&
+                         2.0 * (grid.other_arc - kPi) + std::abs(ch.b[t] - ch.a[t]) >=
+                             std::max(grid.step, grid.other_width);
+      const double old = ch.x[t];
+      double best = old, best_e = std::numeric_limits<double>::quiet_NaN();
+      for (int o = -half; o < half; ++o) {
+        const double x = old + o * grid.step;
+        const bool in_box = ch.lo[t] <= x && x <= ch.hi[t];
+        if (o == 0 ||
+            (in_box ? !grid.box : !(other && within_both_chords(ch, t, x, grid.other_arc))))
+          continue;
+        if (std::isnan(best_e)) best_e = local_energy(ch, m, t, old);  // (only with candidates)
+        const double e = local_energy(ch, m, t, x);
+        if (e < best_e) best_e = e, best = x;
+      }
+      if (best == old) continue;
+      ch.x[t] = best;
+      if (!(ch.lo[t] <= best && best <= ch.hi[t])) reach_other_arc(ch, t, grid.other_arc);
+      changed = moved = true;
+    }
+  }
+  return moved;
+}
+
 /// Curve Ensemble's optimizer: a coordinate search over each free direction, first the best of
-/// the one-degree offsets in its box (Gauss–Seidel sweeps until none moves), then `levels`
-/// refinements with steps 4× smaller each, stepping while the energy goes down.
+/// the one-degree offsets it may take (for the elastic basis a node's second interval too, as
+/// Curve Ensemble's angles are not boxed about the bisector), then `levels` refinements with
+/// steps 4× smaller each, stepping while the energy goes down.
 void coordinate_search(Chain& ch, const BasicCurveMethod& m, int levels) {
+  const bool elastic = m.basis == MinEnergyBasis::kElastic;
+  scan_directions(ch, m, {.other_arc = elastic ? std::min(m.omega, kPairLimit) : 0.0});
   const std::size_t k = ch.node.size();
   double step = kPi / 180.0;
-  for (int level = 0; level <= levels; ++level, step /= 4.0) {
+  for (int level = 1; level <= levels; ++level) {
+    step /= 4.0;
     for (bool changed = true; changed;) {
       changed = false;
       for (std::size_t t = 0; t < k; ++t) {
         if (ch.fixed[t]) continue;
         const double old = ch.x[t];
         double best = old, best_e = local_energy(ch, m, t, old);
-        if (level == 0) {  // the best of the 360 one-degree offsets
-          for (int o = -180; o < 180; ++o) {
-            const double x = old + o * step;
-            if (o == 0 || x < ch.lo[t] || x > ch.hi[t]) continue;
+        for (double dirn : {1.0, -1.0}) {  // steps of the current size while they lower it
+          for (double x = best + dirn * step; x >= ch.lo[t] && x <= ch.hi[t]; x += dirn * step) {
             const double e = local_energy(ch, m, t, x);
-            if (e < best_e) best_e = e, best = x;
-          }
-        } else {  // steps of the current size while they lower the energy
-          for (double dirn : {1.0, -1.0}) {
-            for (double x = best + dirn * step; x >= ch.lo[t] && x <= ch.hi[t]; x += dirn * step) {
-              const double e = local_energy(ch, m, t, x);
-              if (!(e < best_e)) break;
-              best_e = e, best = x;
-            }
+            if (!(e < best_e)) break;
+            best_e = e, best = x;
           }
         }
         if (best != old) {
@@ -1115,9 +1193,6 @@ ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gsc
 struct PairBounds {
   std::vector<double> lo, hi;
 };
-
-/// The elastic pair constraints |α − β| <= this sit just inside 180°, where E_1 is finite.
-constexpr double kPairLimit = detail::kElasticaPairLimit;
 
 PairBounds pair_bounds(const Chain& ch, double limit) {
   const std::size_t k = ch.node.size(), segs = ch.segments();
@@ -1648,85 +1723,53 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
   return res;
 }
 
-/// A two-sided node's directions within Ω of both chords form two intervals when its stencil
-/// turns by more than 2(180° − Ω): one about the chords' bisector, which the offsets a = −ψ/2,
-/// b = ψ/2 and the box [lo, hi] describe, and one about the reversed bisector, where one of
-/// x + a, x + b leaves (−180°, 180°]. If direction x (from ch.x, its angle from ref) lies in
-/// the second, that offset is taken a full turn back and the box is the second interval, so
-/// that α and β are again the direction's angles with the chords, as a data-ball optimizer
-/// reads them. False, with nothing changed, if x lies in neither.
-bool reach_other_arc(Chain& ch, std::size_t t, double omega) {
-  constexpr double kTurn = 2.0 * kPi;
-  for (const double dx : {0.0, kTurn, -kTurn}) {
-    const double x = ch.x[t] + dx;
-    for (const auto& [da, db] :
-         {std::pair{-kTurn, 0.0}, {0.0, -kTurn}, {kTurn, 0.0}, {0.0, kTurn}}) {
-      const double a = ch.a[t] + da, b = ch.b[t] + db;
-      if (!(std::abs(x + a) <= omega && std::abs(x + b) <= omega)) continue;
-      ch.a[t] = a;
-      ch.b[t] = b;
-      ch.lo[t] = std::max(-omega - a, -omega - b);
-      ch.hi[t] = std::min(omega - a, omega - b);
-      ch.x[t] = x;
-      return true;
+/// Whether every free direction of ch.x lies in its box with its end angles inside the
+/// s-curves' domain (on a box at 180° an angle wraps: a closed curve with a half turn then met
+/// an infeasible piece) and meets the pair constraints `pb` to within `slack`.
+bool meets_pairs(const Chain& ch, const PairBounds& pb, double slack) {
+  const std::size_t k = ch.node.size(), segs = ch.segments();
+  for (std::size_t t = 0; t < k; ++t) {
+    const double x = ch.x[t];
+    if (!ch.fixed[t] && !(ch.lo[t] <= x && x <= ch.hi[t] &&
+                          std::max(std::abs(x + ch.a[t]), std::abs(x + ch.b[t])) < kPairLimit)) {
+      return false;
     }
   }
-  return false;
+  for (std::size_t s = 0; s < segs; ++s) {
+    const double v = ch.x[s] - ch.x[s + 1 == k ? 0 : s + 1];
+    if (!(pb.lo[s] - slack <= v && v <= pb.hi[s] + slack)) return false;
+  }
+  return true;
 }
 
-/// The elastic basis on one chain: first the restricted elastic spline (boxes |α|, |β| <= 90°,
-/// where every pair is feasible; a clamped neighbour's pair becomes a box), then the
-/// active-set Newton on the whole s-curve domain from there. The unrestricted energy has
-/// start-dependent local minima: this returns the one reached from the restricted optimum, or,
-/// `warm`, from ch.x as given where it meets every pair constraint (a data-ball fit refitting
-/// its optimum: restarting from the restricted spline found another minimum).
-ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale, bool warm) {
-  const std::size_t k = ch.node.size(), segs = ch.segments();
-  const PairBounds pb = pair_bounds(ch, kPairLimit);
-  if (warm) {
-    // Where the warm direction lies outside the node's box it may lie in the box's second
-    // interval: one offset a full turn back (reach_other_arc). Undone if the start is not taken.
-    struct Turned {
-      std::size_t t;
-      double a, b, lo, hi;
-    };
-    std::vector<Turned> turned;
-    const double omega = std::min(opt.method.omega, kPairLimit);
-    for (std::size_t t = 0; t < k; ++t) {
-      if (ch.fixed[t] || (ch.lo[t] <= ch.x[t] && ch.x[t] <= ch.hi[t])) continue;
-      const Turned was{t, ch.a[t], ch.b[t], ch.lo[t], ch.hi[t]};
-      const bool two_sided = ch.closed || (t > 0 && t + 1 < k);
-      if (two_sided && reach_other_arc(ch, t, omega)) {
-        turned.push_back(was);
-      } else {
-        ch.x[t] = std::clamp(ch.x[t], ch.lo[t], ch.hi[t]);
-      }
-    }
-    const PairBounds wpb = turned.empty() ? pb : pair_bounds(ch, kPairLimit);
-    // Its end angles strictly inside the s-curves' domain: on a box at 180° an angle wraps
-    // (a closed curve with a half turn then met an infeasible piece).
-    bool inside = true;
-    for (std::size_t t = 0; t < k && inside; ++t) {
-      const double x = ch.x[t];
-      inside = ch.fixed[t] || (ch.lo[t] <= x && x <= ch.hi[t] &&
-                               std::max(std::abs(x + ch.a[t]), std::abs(x + ch.b[t])) < kPairLimit);
-    }
-    for (std::size_t s = 0; s < segs && inside; ++s) {
-      const double v = ch.x[s] - ch.x[s + 1 == k ? 0 : s + 1];
-      // On a pair bound where the optimum held it, to the rounding of the directions' angles
-      // (kPairLimit leaves 3e-12 to 180°).
-      constexpr double kOnBound = 1e-13;
-      inside = wpb.lo[s] - kOnBound <= v && v <= wpb.hi[s] + kOnBound;
-    }
-    if (inside) return optimize_coupled(ch, opt, gscale, wpb);
-    for (const Turned& u : turned) {
-      ch.a[u.t] = u.a;
-      ch.b[u.t] = u.b;
-      ch.lo[u.t] = u.lo;
-      ch.hi[u.t] = u.hi;
-      ch.x[u.t] = std::clamp(ch.x[u.t], u.lo, u.hi);
-    }
-  }
+bool settled(const ChainResult& r) {
+  return r.converged || r.at_precision;
+}
+
+/// Adds the work counted in `from` to `to`.
+void add_work(ChainResult& to, const ChainResult& from) {
+  to.iterations += from.iterations;
+  to.window_passes += from.window_passes;
+  to.windows += from.windows;
+  to.window_iterations += from.window_iterations;
+}
+
+/// Takes the directions of `from` (a copy of `to` that an optimizer moved), with the offsets
+/// and boxes of the nodes it turned to their other interval.
+void take_directions(Chain& to, const Chain& from) {
+  to.x = from.x;
+  std::ranges::copy(from.a, to.a.begin());
+  std::ranges::copy(from.b, to.b.begin());
+  std::ranges::copy(from.lo, to.lo.begin());
+  std::ranges::copy(from.hi, to.hi.begin());
+}
+
+/// The restricted elastic spline (boxes |α|, |β| <= 90°, where every pair is feasible; a clamped
+/// neighbour's pair becomes a box), then the active-set Newton on the whole s-curve domain from
+/// there: the minimum reached from the restricted optimum.
+ChainResult elastic_descent(Chain& ch, const MinEnergyOptions& opt, double gscale,
+                            const PairBounds& pb) {
+  const std::size_t k = ch.node.size();
   Chain start = ch;
   // Held: fixed, or a restricted box found empty below. Each node's box is also bounded by its
   // pair constraints with held neighbours, so that the start satisfies every pair constraint
@@ -1776,7 +1819,6 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
     if (has_next) work.push_back(next);
     if (has_prev) work.push_back(prev);
   }
-  (void)segs;
   MinEnergyOptions restricted = opt;
   restricted.method.basis = MinEnergyBasis::kRestrictedElastic;
   const ChainResult first = optimize_searched(start, restricted, gscale);
@@ -1784,10 +1826,118 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
   MinEnergyOptions rest = opt;  // the iteration cap bounds both phases together
   rest.max_iterations = std::max(0, detail::iteration_limit(opt) - first.iterations);
   ChainResult r = optimize_coupled(ch, rest, gscale, pb);
-  r.iterations += first.iterations;
-  r.window_passes += first.window_passes;
-  r.windows += first.windows;
-  r.window_iterations += first.window_iterations;
+  add_work(r, first);
+  return r;
+}
+
+/// Rounds of looking in the other intervals after an elastic optimum (each a Newton solve).
+constexpr int kOtherArcRounds = 4;
+/// The default search's grid there, and the narrowest second interval it looks in. Measured on
+/// 200 sharp walks (docs/methods/elastic.md, "Which minimum"): 10° finds as many of the lower
+/// minima as 5°, 20° fewer; every second interval from 0° wide finds no more than from 120°,
+/// and 120° makes the look cheap where a stencil turns less (on gentler walks).
+constexpr double kOtherArcStep = 10.0 * kPi / 180.0;
+constexpr double kOtherArcWidth = 120.0 * kPi / 180.0;
+
+/// A descent from the bisectors never reaches a node's second interval (reach_other_arc), where
+/// the curve turns round the point the other way, and on sharp data a lower minimum often lies
+/// there. From the settled optimum `r` of ch: each direction to the best of `grid`'s, Newton
+/// from there, taken while that settles lower.
+void try_other_arcs(Chain& ch, const MinEnergyOptions& opt, double gscale, const ScanGrid& grid,
+                    ChainResult& r) {
+  if (!settled(r)) return;
+  Evaluation ev;
+  double energy = std::numeric_limits<double>::quiet_NaN();
+  for (int round = 0; round < kOtherArcRounds; ++round) {
+    Chain other = ch;
+    if (!scan_directions(other, opt.method, grid)) return;
+    if (std::isnan(energy)) energy = evaluate(ch, opt.method, ch.x, false, ev);
+    const PairBounds pb = pair_bounds(other, kPairLimit);
+    if (!meets_pairs(other, pb, 0.0)) return;
+    MinEnergyOptions rest = opt;  // within the iteration cap of the whole fit
+    rest.max_iterations = std::max(0, detail::iteration_limit(opt) - r.iterations);
+    ChainResult again = optimize_coupled(other, rest, gscale, pb);
+    if (!settled(again)) return;
+    const double lower = evaluate(other, opt.method, other.x, false, ev);
+    if (!(lower < energy)) return;
+    energy = lower;
+    take_directions(ch, other);
+    add_work(again, r);
+    r = again;
+  }
+}
+
+/// The elastic basis on one chain: the minimum of elastic_descent, then of the other intervals'
+/// (try_other_arcs; with search=coordinate the one-degree scan, and never above search=newton's
+/// minimum), or, `warm`, the minimum from ch.x as given where it meets every pair constraint (a
+/// data-ball fit refitting its optimum: restarting from the restricted spline found another
+/// minimum). Not `look`: elastic_descent's minimum alone (detail::OtherArcs).
+ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale, bool warm,
+                             bool look) {
+  const std::size_t k = ch.node.size();
+  const PairBounds pb = pair_bounds(ch, kPairLimit);
+  const double omega = std::min(opt.method.omega, kPairLimit);
+  if (warm) {
+    // Where the warm direction lies outside the node's box it may lie in the box's second
+    // interval: one offset a full turn back (reach_other_arc). Undone if the start is not taken.
+    struct Turned {
+      std::size_t t;
+      double a, b, lo, hi;
+    };
+    std::vector<Turned> turned;
+    for (std::size_t t = 0; t < k; ++t) {
+      if (ch.fixed[t] || (ch.lo[t] <= ch.x[t] && ch.x[t] <= ch.hi[t])) continue;
+      const Turned was{t, ch.a[t], ch.b[t], ch.lo[t], ch.hi[t]};
+      const bool two_sided = ch.closed || (t > 0 && t + 1 < k);
+      if (two_sided && reach_other_arc(ch, t, omega)) {
+        turned.push_back(was);
+      } else {
+        ch.x[t] = std::clamp(ch.x[t], ch.lo[t], ch.hi[t]);
+      }
+    }
+    const PairBounds wpb = turned.empty() ? pb : pair_bounds(ch, kPairLimit);
+    // On a pair bound where the optimum held it, to the rounding of the directions' angles
+    // (kPairLimit leaves 3e-12 to 180°).
+    constexpr double kOnBound = 1e-13;
+    if (meets_pairs(ch, wpb, kOnBound)) return optimize_coupled(ch, opt, gscale, wpb);
+    for (const Turned& u : turned) {
+      ch.a[u.t] = u.a;
+      ch.b[u.t] = u.b;
+      ch.lo[u.t] = u.lo;
+      ch.hi[u.t] = u.hi;
+      ch.x[u.t] = std::clamp(ch.x[u.t], u.lo, u.hi);
+    }
+  }
+  if (opt.search != MinEnergySearch::kCoordinate || !look) {
+    ChainResult r = elastic_descent(ch, opt, gscale, pb);
+    if (look) {
+      try_other_arcs(
+          ch, opt, gscale,
+          {.step = kOtherArcStep, .box = false, .other_arc = omega, .other_width = kOtherArcWidth},
+          r);
+    }
+    return r;
+  }
+  // search=coordinate: search=newton's minimum, or, if lower, Newton's from Curve Ensemble's
+  // one-degree scan from the bisectors over every direction (as the reference's first level),
+  // followed by the scan's look in the other intervals.
+  Chain alt = ch;
+  MinEnergyOptions newton = opt;
+  newton.search = MinEnergySearch::kNewton;
+  const ChainResult by_newton = optimize_elastic(alt, newton, gscale, false, true);
+  coordinate_search(ch, opt.method, 0);
+  const PairBounds spb = pair_bounds(ch, kPairLimit);
+  ChainResult r;
+  if (meets_pairs(ch, spb, 0.0)) {
+    r = optimize_coupled(ch, opt, gscale, spb);
+    try_other_arcs(ch, opt, gscale, {.other_arc = omega}, r);
+  }
+  Evaluation ev;
+  if (!settled(r) || (settled(by_newton) && evaluate(alt, opt.method, alt.x, false, ev) <
+                                                evaluate(ch, opt.method, ch.x, false, ev))) {
+    take_directions(ch, alt);
+    return by_newton;
+  }
   return r;
 }
 
@@ -2324,13 +2474,14 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
   if (balls) {
     detail::fit_data_balls(input, o, level, out, report);
   } else {
-    detail::fit_min_energy_at(input, o, level, out, report, nullptr, nullptr);
+    detail::fit_min_energy_at(input, o, level, out, report, nullptr, nullptr,
+                              detail::OtherArcs::kLook);
   }
 }
 
 void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& options,
                                ReportLevel level, FitResult& out, MinEnergyReport* report,
-                               const SpanDirections* warm, SpanDirections* dirs) {
+                               const SpanDirections* warm, SpanDirections* dirs, OtherArcs arcs) {
   const BasicCurveMethod& m = options.method;
   if (m.basis == MinEnergyBasis::kElastic) {
     if (!(m.omega > 0.0 && m.omega <= kPi + 1e-12)) {
@@ -2389,9 +2540,10 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     if (!warm && options.search == MinEnergySearch::kNewton) {
       start_quadratic(ch, m, gscale);
     }
-    const ChainResult r = m.basis == MinEnergyBasis::kElastic
-                              ? optimize_elastic(ch, options, gscale, warm != nullptr)
-                              : optimize_searched(ch, options, gscale);
+    const ChainResult r =
+        m.basis == MinEnergyBasis::kElastic
+            ? optimize_elastic(ch, options, gscale, warm != nullptr, arcs == OtherArcs::kLook)
+            : optimize_searched(ch, options, gscale);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.window_passes += r.window_passes;
     rep.windows += r.windows;
@@ -2586,9 +2738,10 @@ OptionSpec min_energy_search_option() {
           .choices = kSearch.names(),
           .doc =
               "which local minimum (the energy is not convex): newton = projected Newton from "
-              "the chord bisectors (fast); coordinate = Curve Ensemble's one-degree "
-              "coordinate search first, then Newton from there (never above that search's "
-              "energy, about 100x slower)"};
+              "the chord bisectors (fast; elastic then also tries passing sharp points the "
+              "other way round); coordinate = Curve Ensemble's one-degree coordinate search "
+              "first, then Newton from there (never above that search's energy, about 100x "
+              "slower; elastic: over every direction, and never above newton)"};
 }
 
 MinEnergySearch parse_min_energy_search(const nlohmann::json& options) {

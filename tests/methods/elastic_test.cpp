@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -307,6 +309,88 @@ TEST(ElasticSpline, GivenTangentsAtUTurnStencils) {
   const Error e = expect_error(ErrorCode::kInfeasible, [&] { (void)fit("elastic", apart); },
                                {"points 0 and 1", "99.84", "-99.84"});
   EXPECT_EQ(e.index(), 0u);
+}
+
+/// Σ E_1(α, β)/L of the open curve through p with end tangents t0, t2 and direction theta at
+/// p[1] (infinite where a piece has no s-curve).
+double three_point_energy(const std::array<Point, 3>& p, Vec2 t0, Vec2 t2, double theta) {
+  const BasicCurveMethod m{MinEnergyBasis::kElastic, 1.0, kPi};
+  const Vec2 d = from_angle(theta), c1 = p[1] - p[0], c2 = p[2] - p[1];
+  return basic_energy(m, angle(c1, t0), angle(c1, d)).e / norm(c1) +
+         basic_energy(m, angle(c2, d), angle(c2, t2)).e / norm(c2);
+}
+
+TEST(ElasticSpline, LooksInTheSecondIntervalOfASharpStencil) {
+  // One free direction, at a stencil turning by 160°: the directions within 180° of both chords
+  // form two intervals, about the chords' bisector and about its reverse. A descent from the
+  // bisector stays in the first; the global minimum, by brute force over the whole circle, lies
+  // in the second (the curve passes the point the other way round).
+  const std::array<Point, 3> p{{{0, 0}, {1.7, 0}, {0.6, 0.4}}};
+  const Vec2 t0{0.1, 1}, t2{-0.2, 1};
+  FitInput in = input_of({p[0], p[1], p[2]});
+  in.kinds = {PointKind::kClamped, PointKind::kSmooth, PointKind::kClamped};
+  in.tangents = {t0, std::nullopt, t2};
+  const double bisector =
+      std::atan2(p[1].y - p[0].y, p[1].x - p[0].x) + 0.5 * angle(p[1] - p[0], p[2] - p[1]);
+  const double half_turn = 0.5 * std::abs(angle(p[1] - p[0], p[2] - p[1]));
+  auto energy = [&](double theta) { return three_point_energy(p, t0, t2, theta); };
+  // Brute force: a 0.05° grid, then golden sections about its best (towards a pair bound where
+  // the energy ends, as here).
+  double best = std::numeric_limits<double>::infinity(), at = 0.0;
+  double best_first = best;  // within the first interval only
+  for (int i = 0; i < 7200; ++i) {
+    const double theta = i * 0.05 * kDeg, e = energy(theta);
+    if (e < best) best = e, at = theta;
+    if (std::abs(std::remainder(theta - bisector, 2 * kPi)) < kPi - half_turn) {
+      best_first = std::min(best_first, e);
+    }
+  }
+  double lo = at - 0.05 * kDeg, hi = at + 0.05 * kDeg;
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {
+    const double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
+    if (energy(a) < energy(b)) {
+      hi = b;
+    } else {
+      lo = a;
+    }
+  }
+  at = 0.5 * (lo + hi);
+  best = std::min(best, energy(at));
+  EXPECT_GT(std::abs(std::remainder(at - bisector, 2 * kPi)), kPi - half_turn);  // second
+  EXPECT_GT(best_first, 2.0 * best);  // 20.19 against 8.63
+  for (const char* search : {"newton", "coordinate"}) {
+    SCOPED_TRACE(search);
+    const FitResult r = fit("elastic", in, {{"search", search}}, ReportLevel::kBasic);
+    EXPECT_NEAR(exact_energy(r), best, 1e-9 * best);
+    EXPECT_NEAR(std::remainder(std::atan2(r.tangents[1].y, r.tangents[1].x) - at, 2 * kPi), 0.0,
+                1e-6);
+    EXPECT_NE(r.solver->status, SolverStatus::kIterationLimit);
+  }
+}
+
+TEST(ElasticSpline, CoordinateSearchIsNeverAboveNewtonNorTheReference) {
+  // Sharp closed walks (turns up to 170°), where the elastic energy has many local minima:
+  // search=coordinate takes the lower of Newton's and that from Curve Ensemble's one-degree scan
+  // over every direction (the reference's first level), and finds a lower one on some walk.
+  MinEnergyOptions o;
+  o.method = {MinEnergyBasis::kElastic, 1.0, kPi};
+  int below = 0;
+  for (std::uint64_t seed = 0; seed < 5; ++seed) {
+    SCOPED_TRACE(seed);
+    const FitInput in = input_of(random_walk(9, 40 + seed, 170), true);
+    FitResult a, b;
+    MinEnergyReport newton, coordinate;
+    o.search = MinEnergySearch::kNewton;
+    fit_min_energy(in, o, ReportLevel::kNone, a, &newton);
+    o.search = MinEnergySearch::kCoordinate;
+    fit_min_energy(in, o, ReportLevel::kNone, b, &coordinate);
+    const MinEnergyReference ref = min_energy_reference(in, o);
+    EXPECT_LE(coordinate.energy, newton.energy * (1.0 + 1e-12));
+    EXPECT_LE(coordinate.energy, ref.energy * (1.0 + 1e-9));
+    if (coordinate.energy < newton.energy * (1.0 - 1e-6)) ++below;
+  }
+  EXPECT_GE(below, 1);
 }
 
 TEST(ElasticSpline, ConstraintsMetOnTheWayBecomeActiveTogether) {
