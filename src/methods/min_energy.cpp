@@ -592,6 +592,10 @@ struct ChainResult {
   bool at_precision = false;
   /// elastic: the restricted start breaks a pair constraint (infinite energy): nothing was run.
   bool no_start = false;
+  /// elastic: stationary only with a ridge kept locked whose force exceeds its kink's half-jump
+  /// (released and locked again twice: docs/methods/elastic.md, "Ridges"), so not certainly
+  /// a KKT point.
+  bool ridge_kept = false;
   std::size_t worst = 0;  ///< the chain node with the largest residual
 };
 
@@ -1109,9 +1113,9 @@ struct ScanGrid {
   double step = kPi / 180.0;
   bool box = true;
   double other_arc = 0.0;
-  /// Second intervals narrower than this or the step are skipped (they belong to stencils that
-  /// turn little, round which the curve would wind).
-  double other_width = 0.0;
+  /// Second intervals narrower than the step, or at stencils turning by less than this, are
+  /// skipped (round a gentle turn the curve would wind).
+  double other_turn = 0.0;
 };
 
 /// Each free direction to the best of its grid's offsets (the energy of its spans, neighbours
@@ -1124,9 +1128,12 @@ bool scan_directions(Chain& ch, const BasicCurveMethod& m, const ScanGrid& grid)
     changed = false;
     for (std::size_t t = 0; t < k; ++t) {
       if (ch.fixed[t]) continue;
+      // |b − a| is the stencil's turn |ψ| in its first interval and 2π − |ψ| in its second;
+      // the other interval is 2Ω − 2π + |b − a| wide.
+      const double ba = std::abs(ch.b[t] - ch.a[t]);
       const bool other = grid.other_arc > 0.0 && (ch.closed || (t > 0 && t + 1 < k)) &&
-                         2.0 * (grid.other_arc - kPi) + std::abs(ch.b[t] - ch.a[t]) >=
-                             std::max(grid.step, grid.other_width);
+                         std::min(ba, 2.0 * kPi - ba) >= grid.other_turn &&
+                         2.0 * (grid.other_arc - kPi) + ba >= grid.step;
       const double old = ch.x[t];
       double best = old, best_e = std::numeric_limits<double>::quiet_NaN();
       for (int o = -half; o < half; ++o) {
@@ -1181,10 +1188,52 @@ void coordinate_search(Chain& ch, const BasicCurveMethod& m, int levels) {
   }
 }
 
-/// The box-constrained optimum from the start the options' search asks for.
-ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gscale) {
-  if (opt.search == MinEnergySearch::kCoordinate) coordinate_search(ch, opt.method, 0);
-  return optimize(ch, opt, gscale);
+bool settled(const ChainResult& r) {
+  return r.converged || r.at_precision;
+}
+
+/// Adds the work counted in `from` to `to`.
+void add_work(ChainResult& to, const ChainResult& from) {
+  to.iterations += from.iterations;
+  to.window_passes += from.window_passes;
+  to.windows += from.windows;
+  to.window_iterations += from.window_iterations;
+}
+
+/// Takes the directions of `from` (a copy of `to` that an optimizer moved), with the offsets
+/// and boxes of the nodes it turned to their other interval.
+void take_directions(Chain& to, const Chain& from) {
+  to.x = from.x;
+  std::ranges::copy(from.a, to.a.begin());
+  std::ranges::copy(from.b, to.b.begin());
+  std::ranges::copy(from.lo, to.lo.begin());
+  std::ranges::copy(from.hi, to.hi.begin());
+}
+
+void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale);
+
+/// The box-constrained optimum from the start the options' search asks for. search=coordinate,
+/// `full`: the lower of that and search=newton's (from the quadratic model's start), so never
+/// above it.
+ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gscale, bool full) {
+  if (opt.search != MinEnergySearch::kCoordinate) return optimize(ch, opt, gscale);
+  Chain alt;
+  ChainResult by_newton;
+  if (full) {
+    alt = ch;
+    start_quadratic(alt, opt.method, gscale);
+    by_newton = optimize(alt, opt, gscale);
+  }
+  coordinate_search(ch, opt.method, 0);
+  const ChainResult r = optimize(ch, opt, gscale);
+  Evaluation ev;
+  if (full && settled(by_newton) &&
+      (!settled(r) ||
+       evaluate(alt, opt.method, alt.x, false, ev) < evaluate(ch, opt.method, ch.x, false, ev))) {
+    take_directions(ch, alt);
+    return by_newton;
+  }
+  return r;
 }
 
 // ---- the elastic basis: coupled constraints |α − β| <= π between neighbouring directions ----
@@ -1413,7 +1462,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     // the wrong face when a multiplier has the wrong sign (issue 18: closed 3–4-point curves
     // stopped on |α − β| = 180° with the energy going down off it). A wrong sign within the
     // residual itself is not resolved by the derivatives.
-    double worst = 0.0;
+    double worst = 0.0, kept_worst = 0.0;  // (kept: over the ridges kept locked)
     std::size_t worst_box = k, worst_link = segs;
     // Per group, its worst wrong-signed box or (non-ridge) link: released together, one per
     // group, when no ridge is the worst (one release per stationary point took a global
@@ -1465,7 +1514,10 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
           }
           // At the upper bound the multiplier is −force (>= 0), at the lower bound +force; a
           // ridge holds while |force| is within its subgradient.
-          if (link[s] == kRidge && ridge_releases[s] >= 2) continue;
+          if (link[s] == kRidge && ridge_releases[s] >= 2) {
+            kept_worst = std::max(kept_worst, (std::abs(force) - half_jump[s]) / gscale);
+            continue;
+          }
           const double v = link[s] == kRidge ? std::abs(force) - half_jump[s]
                            : link[s] > 0     ? force
                                              : -force;
@@ -1513,6 +1565,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
       if (worst <= std::max(tol, residual)) {
         res.converged = residual <= tol;
         res.at_precision = !res.converged;
+        res.ridge_kept = kept_worst > std::max(tol, residual);
         return res;
       }
       stuck = false;
@@ -1742,28 +1795,6 @@ bool meets_pairs(const Chain& ch, const PairBounds& pb, double slack) {
   return true;
 }
 
-bool settled(const ChainResult& r) {
-  return r.converged || r.at_precision;
-}
-
-/// Adds the work counted in `from` to `to`.
-void add_work(ChainResult& to, const ChainResult& from) {
-  to.iterations += from.iterations;
-  to.window_passes += from.window_passes;
-  to.windows += from.windows;
-  to.window_iterations += from.window_iterations;
-}
-
-/// Takes the directions of `from` (a copy of `to` that an optimizer moved), with the offsets
-/// and boxes of the nodes it turned to their other interval.
-void take_directions(Chain& to, const Chain& from) {
-  to.x = from.x;
-  std::ranges::copy(from.a, to.a.begin());
-  std::ranges::copy(from.b, to.b.begin());
-  std::ranges::copy(from.lo, to.lo.begin());
-  std::ranges::copy(from.hi, to.hi.begin());
-}
-
 /// The restricted elastic spline (boxes |α|, |β| <= 90°, where every pair is feasible; a clamped
 /// neighbour's pair becomes a box), then the active-set Newton on the whole s-curve domain from
 /// there: the minimum reached from the restricted optimum.
@@ -1821,7 +1852,7 @@ ChainResult elastic_descent(Chain& ch, const MinEnergyOptions& opt, double gscal
   }
   MinEnergyOptions restricted = opt;
   restricted.method.basis = MinEnergyBasis::kRestrictedElastic;
-  const ChainResult first = optimize_searched(start, restricted, gscale);
+  const ChainResult first = optimize_searched(start, restricted, gscale, false);
   ch.x = start.x;
   MinEnergyOptions rest = opt;  // the iteration cap bounds both phases together
   rest.max_iterations = std::max(0, detail::iteration_limit(opt) - first.iterations);
@@ -1832,12 +1863,13 @@ ChainResult elastic_descent(Chain& ch, const MinEnergyOptions& opt, double gscal
 
 /// Rounds of looking in the other intervals after an elastic optimum (each a Newton solve).
 constexpr int kOtherArcRounds = 4;
-/// The default search's grid there, and the narrowest second interval it looks in. Measured on
-/// 200 sharp walks (docs/methods/elastic.md, "Which minimum"): 10° finds as many of the lower
-/// minima as 5°, 20° fewer; every second interval from 0° wide finds no more than from 120°,
-/// and 120° makes the look cheap where a stencil turns less (on gentler walks).
+/// The default search's grid there, and the least stencil turn it looks at. Measured on 200
+/// sharp walks (docs/methods/elastic.md, "Which minimum"): 10° finds as many of the lower
+/// minima as 5°, 20° fewer; looking at every stencil finds no more than from 120°, and 120°
+/// makes the look cheap on gentler data. (A threshold on the second interval's width instead
+/// skipped a 174° turn with Ω = 150°, whose lower minimum had a third of the energy.)
 constexpr double kOtherArcStep = 10.0 * kPi / 180.0;
-constexpr double kOtherArcWidth = 120.0 * kPi / 180.0;
+constexpr double kOtherArcTurn = 120.0 * kPi / 180.0;
 
 /// A descent from the bisectors never reaches a node's second interval (reach_other_arc), where
 /// the curve turns round the point the other way, and on sharp data a lower minimum often lies
@@ -1857,7 +1889,9 @@ void try_other_arcs(Chain& ch, const MinEnergyOptions& opt, double gscale, const
     MinEnergyOptions rest = opt;  // within the iteration cap of the whole fit
     rest.max_iterations = std::max(0, detail::iteration_limit(opt) - r.iterations);
     ChainResult again = optimize_coupled(other, rest, gscale, pb);
-    if (!settled(again)) return;
+    // (Not a minimum held by a kept ridge, which may not be one: the look would trade a
+    // certain minimum for an uncertain one.)
+    if (!settled(again) || again.ridge_kept) return;
     const double lower = evaluate(other, opt.method, other.x, false, ev);
     if (!(lower < energy)) return;
     energy = lower;
@@ -1871,9 +1905,9 @@ void try_other_arcs(Chain& ch, const MinEnergyOptions& opt, double gscale, const
 /// (try_other_arcs; with search=coordinate the one-degree scan, and never above search=newton's
 /// minimum), or, `warm`, the minimum from ch.x as given where it meets every pair constraint (a
 /// data-ball fit refitting its optimum: restarting from the restricted spline found another
-/// minimum). Not `look`: elastic_descent's minimum alone (detail::OtherArcs).
+/// minimum). Not `full`: elastic_descent's minimum alone (detail::MinimumSearch).
 ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gscale, bool warm,
-                             bool look) {
+                             bool full) {
   const std::size_t k = ch.node.size();
   const PairBounds pb = pair_bounds(ch, kPairLimit);
   const double omega = std::min(opt.method.omega, kPairLimit);
@@ -1908,12 +1942,12 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
       ch.x[u.t] = std::clamp(ch.x[u.t], u.lo, u.hi);
     }
   }
-  if (opt.search != MinEnergySearch::kCoordinate || !look) {
+  if (opt.search != MinEnergySearch::kCoordinate || !full) {
     ChainResult r = elastic_descent(ch, opt, gscale, pb);
-    if (look) {
+    if (full) {
       try_other_arcs(
           ch, opt, gscale,
-          {.step = kOtherArcStep, .box = false, .other_arc = omega, .other_width = kOtherArcWidth},
+          {.step = kOtherArcStep, .box = false, .other_arc = omega, .other_turn = kOtherArcTurn},
           r);
     }
     return r;
@@ -1932,9 +1966,12 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
     r = optimize_coupled(ch, opt, gscale, spb);
     try_other_arcs(ch, opt, gscale, {.other_arc = omega}, r);
   }
+  // The lower, unless only one is certainly a minimum (settled without a kept ridge).
+  auto doubt = [](const ChainResult& x) { return !settled(x) ? 2 : x.ridge_kept ? 1 : 0; };
   Evaluation ev;
-  if (!settled(r) || (settled(by_newton) && evaluate(alt, opt.method, alt.x, false, ev) <
-                                                evaluate(ch, opt.method, ch.x, false, ev))) {
+  if (doubt(by_newton) < doubt(r) ||
+      (doubt(by_newton) == doubt(r) &&
+       evaluate(alt, opt.method, alt.x, false, ev) < evaluate(ch, opt.method, ch.x, false, ev))) {
     take_directions(ch, alt);
     return by_newton;
   }
@@ -2475,14 +2512,16 @@ void fit_min_energy(const FitInput& input, const MinEnergyOptions& options, Repo
     detail::fit_data_balls(input, o, level, out, report);
   } else {
     detail::fit_min_energy_at(input, o, level, out, report, nullptr, nullptr,
-                              detail::OtherArcs::kLook);
+                              detail::MinimumSearch::kFull);
   }
 }
 
 void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& options,
                                ReportLevel level, FitResult& out, MinEnergyReport* report,
-                               const SpanDirections* warm, SpanDirections* dirs, OtherArcs arcs) {
+                               const SpanDirections* warm, SpanDirections* dirs,
+                               MinimumSearch search) {
   const BasicCurveMethod& m = options.method;
+  const bool full = search == MinimumSearch::kFull && !warm;
   if (m.basis == MinEnergyBasis::kElastic) {
     if (!(m.omega > 0.0 && m.omega <= kPi + 1e-12)) {
       throw Error(ErrorCode::kBadOption, "elastic: omega_deg must lie in (0, 180]");
@@ -2540,10 +2579,9 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     if (!warm && options.search == MinEnergySearch::kNewton) {
       start_quadratic(ch, m, gscale);
     }
-    const ChainResult r =
-        m.basis == MinEnergyBasis::kElastic
-            ? optimize_elastic(ch, options, gscale, warm != nullptr, arcs == OtherArcs::kLook)
-            : optimize_searched(ch, options, gscale);
+    const ChainResult r = m.basis == MinEnergyBasis::kElastic
+                              ? optimize_elastic(ch, options, gscale, warm != nullptr, full)
+                              : optimize_searched(ch, options, gscale, full);
     rep.iterations = std::max(rep.iterations, r.iterations);
     rep.window_passes += r.window_passes;
     rep.windows += r.windows;
@@ -2740,8 +2778,8 @@ OptionSpec min_energy_search_option() {
               "which local minimum (the energy is not convex): newton = projected Newton from "
               "the chord bisectors (fast; elastic then also tries passing sharp points the "
               "other way round); coordinate = Curve Ensemble's one-degree coordinate search "
-              "first, then Newton from there (never above that search's energy, about 100x "
-              "slower; elastic: over every direction, and never above newton)"};
+              "first, then Newton from there, or newton's minimum where lower (never above "
+              "either; 10-100x slower, elastic over every direction and 100-300x)"};
 }
 
 MinEnergySearch parse_min_energy_search(const nlohmann::json& options) {

@@ -7,13 +7,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "detail/elastica.hpp"
 #include "fairspline/error.hpp"
+#include "fairspline/io/json.hpp"
 #include "fairspline/methods/min_energy.hpp"
 #include "fairspline/registry.hpp"
 #include "test_util.hpp"
@@ -367,6 +370,30 @@ TEST(ElasticSpline, LooksInTheSecondIntervalOfASharpStencil) {
                 1e-6);
     EXPECT_NE(r.solver->status, SolverStatus::kIterationLimit);
   }
+}
+
+TEST(ElasticSpline, LooksInTheSecondIntervalWithASmallerOmega) {
+  // The stress suite's seed 18 case 24: a closed walk with Ω = 150.4° whose closing nodes turn
+  // by 174° and 177°, so node 0's second interval is only 114° wide. Newton's minimum from the
+  // bisectors has 3.3 times the energy of the one with node 0 in that interval, which
+  // search=coordinate's scan over every direction finds; the default look must find it too.
+  std::ifstream f(std::string(FAIRSPLINE_TEST_DATA_DIR) + "/elastic-other-interval-s18-c24.json");
+  std::stringstream text;
+  text << f.rdbuf();
+  const io::ParsedInput req = io::parse_json_input(text.str());
+  nlohmann::json options = req.options;
+  const FitResult newton = fit("elastic", req.input, options, ReportLevel::kBasic);
+  options["search"] = "coordinate";
+  const FitResult coordinate = fit("elastic", req.input, options, ReportLevel::kBasic);
+  EXPECT_NEAR(exact_energy(newton), exact_energy(coordinate), 1e-9 * exact_energy(coordinate));
+  const Point p0 = req.input.points[0];
+  const Vec2 in = p0 - req.input.points.back(), out = req.input.points[1] - p0;
+  const double bisector = std::atan2(in.y, in.x) + 0.5 * angle(in, out);
+  const double off =
+      std::remainder(std::atan2(newton.tangents[0].y, newton.tangents[0].x) - bisector, 2 * kPi);
+  // In the second interval: within Ω of both chords about the reversed bisector.
+  const double omega = 150.39637785480926 * kDeg;
+  EXPECT_GE(std::abs(off), 2 * kPi - omega - 0.5 * std::abs(angle(in, out)) - 1e-9);
 }
 
 TEST(ElasticSpline, CoordinateSearchIsNeverAboveNewtonNorTheReference) {

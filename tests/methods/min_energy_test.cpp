@@ -961,10 +961,35 @@ TEST(MinEnergyFit, ConvergesOnShortNearlyStraightData) {
   EXPECT_EQ(failures, 0);
 }
 
+/// The stress suite's seed 18 case 809 (cond-g2, λ = 2.79, an end tangent): the coordinate
+/// search's basin (14.44, where Curve Ensemble's optimizer lands too) is above Newton's from the
+/// quadratic model's start (13.18); search = coordinate returns the lower.
+TEST(MinEnergyFit, CoordinateSearchKeepsNewtonsLowerMinimum) {
+  FitInput in = input_of({{0.0, 0.0},
+                          {-4.476822666514581, -3.389584067116368},
+                          {-11.539346192453545, -7.692667163142648},
+                          {-22.929661742719635, -9.627988462796731},
+                          {-37.51099991057951, -14.758276304092446},
+                          {-44.60774299548056, -17.606308479295265},
+                          {-47.402561824308926, -17.33230797766663}});
+  in.end_tangent = Vec2{-0.9215057820423046, 0.38836464007759597};
+  MinEnergyOptions opt;
+  opt.method = cond_g2(2.7912494486443484);
+  FitResult a, b;
+  MinEnergyReport newton, coordinate;
+  fit_min_energy(in, opt, ReportLevel::kNone, a, &newton);
+  opt.search = MinEnergySearch::kCoordinate;
+  fit_min_energy(in, opt, ReportLevel::kNone, b, &coordinate);
+  const MinEnergyReference ref = min_energy_reference(in, opt);
+  EXPECT_GT(ref.energy, newton.energy * 1.05);
+  EXPECT_NEAR(coordinate.energy, newton.energy, 1e-12 * newton.energy);
+}
+
 /// Which minimum (issue 18): beyond Ω_conv the energy has several local minima, and Newton from
 /// the bisectors misses Curve Ensemble's (the coordinate search's) on many walks for the
 /// Yong–Cheng basis and cond-g2 with λ = 1.8. search = coordinate starts Newton from that
-/// search's point: never above the reference, and below Newton's local minimum on some walk.
+/// search's point and keeps search = newton's minimum where that is lower: never above the
+/// reference nor newton, and below Newton's local minimum on some walk.
 TEST(MinEnergyFit, CoordinateSearchIsNeverAboveTheReference) {
   int below_newton = 0;
   for (const BasicCurveMethod& m : {yong_cheng(), cond_g2(1.8)}) {
@@ -980,6 +1005,7 @@ TEST(MinEnergyFit, CoordinateSearchIsNeverAboveTheReference) {
       fit_min_energy(in, opt, ReportLevel::kBasic, b, &coordinate);
       const MinEnergyReference ref = min_energy_reference(in, opt);
       EXPECT_LE(coordinate.energy, ref.energy * (1 + 1e-12));
+      EXPECT_LE(coordinate.energy, newton.energy * (1 + 1e-12));
       EXPECT_EQ(b.method_report.at("search"), "coordinate");
       EXPECT_EQ(a.method_report.at("search"), "newton");
       EXPECT_NEAR(recomputed_energy(b, m), coordinate.energy, 1e-12 * coordinate.energy);
