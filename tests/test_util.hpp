@@ -13,6 +13,7 @@
 
 #include "fairspline/error.hpp"
 #include "fairspline/fit.hpp"
+#include "fairspline/methods/min_energy.hpp"
 #include "fairspline/vec2.hpp"
 
 namespace fairspline::testing {
@@ -143,6 +144,22 @@ Error expect_error(ErrorCode code, F&& fn, const std::vector<std::string>& parts
     EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << part << " in " << e.what();
   }
   return e;
+}
+
+/// Issue 18's "which minimum": fit_min_energy with search=newton and with search=coordinate, the
+/// other options as given.
+struct Searches {
+  FitResult newton_fit, coordinate_fit;
+  MinEnergyReport newton, coordinate;
+};
+inline Searches fit_both_searches(const FitInput& in, MinEnergyOptions opt,
+                                  ReportLevel level = ReportLevel::kNone) {
+  Searches s;
+  opt.search = MinEnergySearch::kNewton;
+  fit_min_energy(in, opt, level, s.newton_fit, &s.newton);
+  opt.search = MinEnergySearch::kCoordinate;
+  fit_min_energy(in, opt, level, s.coordinate_fit, &s.coordinate);
+  return s;
 }
 
 }  // namespace fairspline::testing

@@ -402,20 +402,16 @@ TEST(ElasticSpline, CoordinateSearchIsNeverAboveNewtonNorTheReference) {
   // over every direction (the reference's first level), and finds a lower one on some walk.
   MinEnergyOptions o;
   o.method = {MinEnergyBasis::kElastic, 1.0, kPi};
+  o.search = MinEnergySearch::kCoordinate;  // (the reference's)
   int below = 0;
   for (std::uint64_t seed = 0; seed < 5; ++seed) {
     SCOPED_TRACE(seed);
     const FitInput in = input_of(random_walk(9, 40 + seed, 170), true);
-    FitResult a, b;
-    MinEnergyReport newton, coordinate;
-    o.search = MinEnergySearch::kNewton;
-    fit_min_energy(in, o, ReportLevel::kNone, a, &newton);
-    o.search = MinEnergySearch::kCoordinate;
-    fit_min_energy(in, o, ReportLevel::kNone, b, &coordinate);
+    const testing::Searches s = testing::fit_both_searches(in, o);
     const MinEnergyReference ref = min_energy_reference(in, o);
-    EXPECT_LE(coordinate.energy, newton.energy * (1.0 + 1e-12));
-    EXPECT_LE(coordinate.energy, ref.energy * (1.0 + 1e-9));
-    if (coordinate.energy < newton.energy * (1.0 - 1e-6)) ++below;
+    EXPECT_LE(s.coordinate.energy, s.newton.energy * (1.0 + 1e-12));
+    EXPECT_LE(s.coordinate.energy, ref.energy * (1.0 + 1e-9));
+    if (s.coordinate.energy < s.newton.energy * (1.0 - 1e-6)) ++below;
   }
   EXPECT_GE(below, 1);
 }

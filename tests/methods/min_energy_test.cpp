@@ -975,14 +975,10 @@ TEST(MinEnergyFit, CoordinateSearchKeepsNewtonsLowerMinimum) {
   in.end_tangent = Vec2{-0.9215057820423046, 0.38836464007759597};
   MinEnergyOptions opt;
   opt.method = cond_g2(2.7912494486443484);
-  FitResult a, b;
-  MinEnergyReport newton, coordinate;
-  fit_min_energy(in, opt, ReportLevel::kNone, a, &newton);
-  opt.search = MinEnergySearch::kCoordinate;
-  fit_min_energy(in, opt, ReportLevel::kNone, b, &coordinate);
+  const testing::Searches s = testing::fit_both_searches(in, opt);
   const MinEnergyReference ref = min_energy_reference(in, opt);
-  EXPECT_GT(ref.energy, newton.energy * 1.05);
-  EXPECT_NEAR(coordinate.energy, newton.energy, 1e-12 * newton.energy);
+  EXPECT_GT(ref.energy, s.newton.energy * 1.05);
+  EXPECT_NEAR(s.coordinate.energy, s.newton.energy, 1e-12 * s.newton.energy);
 }
 
 /// Which minimum (issue 18): beyond Ω_conv the energy has several local minima, and Newton from
@@ -998,11 +994,10 @@ TEST(MinEnergyFit, CoordinateSearchIsNeverAboveTheReference) {
       const FitInput in = input_of(random_walk(40, 900 + seed, 110));
       MinEnergyOptions opt;
       opt.method = m;
-      FitResult a, b;
-      MinEnergyReport newton, coordinate;
-      fit_min_energy(in, opt, ReportLevel::kBasic, a, &newton);
+      const testing::Searches s = testing::fit_both_searches(in, opt, ReportLevel::kBasic);
+      const FitResult &a = s.newton_fit, &b = s.coordinate_fit;
+      const MinEnergyReport &newton = s.newton, &coordinate = s.coordinate;
       opt.search = MinEnergySearch::kCoordinate;
-      fit_min_energy(in, opt, ReportLevel::kBasic, b, &coordinate);
       const MinEnergyReference ref = min_energy_reference(in, opt);
       EXPECT_LE(coordinate.energy, ref.energy * (1 + 1e-12));
       EXPECT_LE(coordinate.energy, newton.energy * (1 + 1e-12));
