@@ -2779,7 +2779,7 @@ OptionSpec min_energy_search_option() {
               "the chord bisectors (fast; elastic then also tries passing sharp points the "
               "other way round); coordinate = Curve Ensemble's one-degree coordinate search "
               "first, then Newton from there, or newton's minimum where lower (never above "
-              "either; 10-100x slower, elastic over every direction and 100-300x)"};
+              "either; 10-100x slower, elastic over every direction and 40-150x)"};
 }
 
 MinEnergySearch parse_min_energy_search(const nlohmann::json& options) {
