@@ -1210,6 +1210,17 @@ void take_directions(Chain& to, const Chain& from) {
   std::ranges::copy(from.hi, to.hi.begin());
 }
 
+/// search=coordinate keeps search=newton's minimum (`alt`, from `by_newton`) over its own
+/// (`ch`, from `r`) where that one is more certainly a minimum (settled, and without a ridge
+/// kept locked against its force), or as certain and lower.
+bool prefer_newton(const Chain& alt, const ChainResult& by_newton, const Chain& ch,
+                   const ChainResult& r, const BasicCurveMethod& m) {
+  auto doubt = [](const ChainResult& x) { return !settled(x) ? 2 : x.ridge_kept ? 1 : 0; };
+  if (doubt(by_newton) != doubt(r)) return doubt(by_newton) < doubt(r);
+  Evaluation ev;
+  return evaluate(alt, m, alt.x, false, ev) < evaluate(ch, m, ch.x, false, ev);
+}
+
 void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale);
 
 /// The box-constrained optimum from the start the options' search asks for. search=coordinate,
@@ -1226,10 +1237,7 @@ ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gsc
   }
   coordinate_search(ch, opt.method, 0);
   const ChainResult r = optimize(ch, opt, gscale);
-  Evaluation ev;
-  if (full && settled(by_newton) &&
-      (!settled(r) ||
-       evaluate(alt, opt.method, alt.x, false, ev) < evaluate(ch, opt.method, ch.x, false, ev))) {
+  if (full && prefer_newton(alt, by_newton, ch, r, opt.method)) {
     take_directions(ch, alt);
     return by_newton;
   }
@@ -1966,12 +1974,7 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
     r = optimize_coupled(ch, opt, gscale, spb);
     try_other_arcs(ch, opt, gscale, {.other_arc = omega}, r);
   }
-  // The lower, unless only one is certainly a minimum (settled without a kept ridge).
-  auto doubt = [](const ChainResult& x) { return !settled(x) ? 2 : x.ridge_kept ? 1 : 0; };
-  Evaluation ev;
-  if (doubt(by_newton) < doubt(r) ||
-      (doubt(by_newton) == doubt(r) &&
-       evaluate(alt, opt.method, alt.x, false, ev) < evaluate(ch, opt.method, ch.x, false, ev))) {
+  if (prefer_newton(alt, by_newton, ch, r, opt.method)) {
     take_directions(ch, alt);
     return by_newton;
   }
