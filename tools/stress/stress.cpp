@@ -67,8 +67,10 @@ struct Args {
   std::string summary_json;
   double balls = 0.0;  ///< share of cases with data balls (methods that fit them)
   /// Which minimum (issue 18): every returned fit of a variant with a `search` option is fitted
-  /// again with search=coordinate and both energies compared (and written here as JSON lines).
+  /// again with search=`minima_search` and both energies compared (and written here as JSON
+  /// lines).
   std::string minima;
+  std::string minima_search = "global";
 };
 
 [[noreturn]] void usage(const std::string& why) {
@@ -77,7 +79,8 @@ struct Args {
                "usage: fairspline_stress [--seed S] [--count N] [--start K] [--methods a,b,...]\n"
                "         [--threads T] [--out DIR] [--max-points N] [--set KEY=VALUE]...\n"
                "         [--save-all] [--check] [--max-saved N] [--hang-seconds S]\n"
-               "         [--summary-json FILE] [--balls P] [--minima FILE] [--list]\n",
+               "         [--summary-json FILE] [--balls P] [--minima FILE]\n"
+               "         [--minima-search newton|coordinate|global] [--list]\n",
                why.c_str());
   std::exit(2);
 }
@@ -467,12 +470,13 @@ struct Stats {
   int max_iterations = 0;  ///< and the cases where the maxima were reached
   double max_ms = 0.0;
   std::uint64_t max_iterations_case = 0, max_ms_case = 0;
-  /// --minima: fits compared, those where search=coordinate is lower (relative excess above
-  /// 1e-9; above 1e-4), the worst relative excess of the variant's own search and its case,
-  /// coordinate fits that failed, and the two searches' times over the compared fits.
-  std::uint64_t compared = 0, coordinate_lower = 0, coordinate_lower_1e4 = 0, coordinate_failed = 0,
+  /// --minima: fits compared, those where the reference search (--minima-search) is lower
+  /// (relative excess above 1e-9; above 1e-4), the worst relative excess of the variant's own
+  /// search and its case, reference fits that failed, and the two searches' times over the
+  /// compared fits.
+  std::uint64_t compared = 0, reference_lower = 0, reference_lower_1e4 = 0, reference_failed = 0,
                 worst_excess_case = 0;
-  double worst_excess = 0.0, compared_ms = 0.0, coordinate_ms = 0.0;
+  double worst_excess = 0.0, compared_ms = 0.0, reference_ms = 0.0;
 
   void merge(const Stats& o) {
     fits += o.fits, ok += o.ok, conditioning += o.conditioning;
@@ -487,10 +491,10 @@ struct Stats {
       max_iterations = o.max_iterations, max_iterations_case = o.max_iterations_case;
     }
     if (o.max_ms > max_ms) max_ms = o.max_ms, max_ms_case = o.max_ms_case;
-    compared += o.compared, coordinate_lower += o.coordinate_lower;
-    coordinate_lower_1e4 += o.coordinate_lower_1e4;
-    coordinate_failed += o.coordinate_failed;
-    compared_ms += o.compared_ms, coordinate_ms += o.coordinate_ms;
+    compared += o.compared, reference_lower += o.reference_lower;
+    reference_lower_1e4 += o.reference_lower_1e4;
+    reference_failed += o.reference_failed;
+    compared_ms += o.compared_ms, reference_ms += o.reference_ms;
     if (o.worst_excess > worst_excess) {
       worst_excess = o.worst_excess, worst_excess_case = o.worst_excess_case;
     }
@@ -586,34 +590,35 @@ struct Shared {
   std::atomic<std::uint64_t> bad{0};  ///< not_converged + internal + KKT failures so far
   std::mutex minima_mutex;
   std::ofstream minima;  ///< --minima's lines
+  std::string minima_search;
 };
 
-/// --minima: fits `in` again with search=coordinate and compares its energy with that of `r`,
-/// the variant's own (default) search, which took `ms`.
+/// --minima: fits `in` again with the reference search (--minima-search) and compares its energy
+/// with that of `r`, the variant's own (default) search, which took `ms`.
 void compare_minima(Shared& sh, const Variant& v, std::uint64_t k, const FitInput& in,
                     const json& options, const FitResult& r, double ms, Stats& st) {
-  if (!find_option(*v.method, "search") || options.contains("search") ||
+  if (!find_option(*v.method, "search") || options.value("search", "") == sh.minima_search ||
       !r.method_report.contains("energy")) {
     return;
   }
-  json coordinate = options;
-  coordinate["search"] = "coordinate";
+  json reference = options;
+  reference["search"] = sh.minima_search;
   const double e = r.method_report.at("energy").get<double>();
   double ec = std::numeric_limits<double>::quiet_NaN();
   const auto t0 = std::chrono::steady_clock::now();
   try {
     FitResult rc;
-    fit_into(v.method->name, in, coordinate, FitOptions{.level = ReportLevel::kNone}, rc);
+    fit_into(v.method->name, in, reference, FitOptions{.level = ReportLevel::kNone}, rc);
     ec = rc.method_report.at("energy").get<double>();
   } catch (const Error&) {
-    ++st.coordinate_failed;
+    ++st.reference_failed;
   }
   const double cms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ++st.compared;
   st.compared_ms += ms;
-  st.coordinate_ms += cms;
-  // Relative to the coordinate search's energy, but at least 1e-6 of the energy of turning every
+  st.reference_ms += cms;
+  // Relative to the reference search's energy, but at least 1e-6 of the energy of turning every
   // piece by a radian (Σ 1/L): nearly collinear data have energies of rounding errors.
   double unit_turns = 0.0;
   const std::size_t n = r.points.size(), spans = r.closed ? n : n - 1;
@@ -621,13 +626,13 @@ void compare_minima(Shared& sh, const Variant& v, std::uint64_t k, const FitInpu
     unit_turns += 1.0 / norm(r.points[i + 1 == n ? 0 : i + 1] - r.points[i]);
   }
   const double excess = std::isfinite(ec) ? (e - ec) / std::max(ec, 1e-6 * unit_turns) : 0.0;
-  if (excess > 1e-9) ++st.coordinate_lower;
-  if (excess > 1e-4) ++st.coordinate_lower_1e4;
+  if (excess > 1e-9) ++st.reference_lower;
+  if (excess > 1e-4) ++st.reference_lower_1e4;
   if (excess > st.worst_excess) st.worst_excess = excess, st.worst_excess_case = k;
   std::lock_guard<std::mutex> lock(sh.minima_mutex);
   sh.minima << json{{"case", k},   {"variant", v.label},  {"points", in.points.size()},
-                    {"energy", e}, {"coordinate", ec},    {"excess", excess},
-                    {"ms", ms},    {"coordinate_ms", cms}}
+                    {"energy", e}, {"reference", ec},     {"excess", excess},
+                    {"ms", ms},    {"reference_ms", cms}, {"search", sh.minima_search}}
                    .dump()
             << "\n";
 }
@@ -811,6 +816,12 @@ int main(int argc, char** argv) {
       a.summary_json = value();
     } else if (s == "--minima") {
       a.minima = value();
+    } else if (s == "--minima-search") {
+      a.minima_search = value();
+      if (a.minima_search != "newton" && a.minima_search != "coordinate" &&
+          a.minima_search != "global") {
+        usage("--minima-search needs newton, coordinate or global");
+      }
     } else if (s == "--list") {
       list = true;
     } else {
@@ -852,6 +863,7 @@ int main(int argc, char** argv) {
   if (!a.minima.empty()) {
     sh.minima.open(a.minima);
     if (!sh.minima) usage("cannot write " + a.minima);
+    sh.minima_search = a.minima_search;
   }
   std::vector<std::vector<Stats>> per_thread(a.threads, std::vector<Stats>(variants.size()));
   std::atomic<bool> finished{false};
@@ -975,13 +987,13 @@ int main(int argc, char** argv) {
                        {"ms_total", st.total_ms}});
     if (st.compared) {
       summary.back()["minima"] = {{"compared", st.compared},
-                                  {"coordinate_lower", st.coordinate_lower},
-                                  {"coordinate_lower_1e4", st.coordinate_lower_1e4},
-                                  {"coordinate_failed", st.coordinate_failed},
+                                  {"reference_lower", st.reference_lower},
+                                  {"reference_lower_1e4", st.reference_lower_1e4},
+                                  {"reference_failed", st.reference_failed},
                                   {"worst_excess", st.worst_excess},
                                   {"worst_excess_case", st.worst_excess_case},
                                   {"ms", st.compared_ms},
-                                  {"coordinate_ms", st.coordinate_ms}};
+                                  {"reference_ms", st.reference_ms}};
     }
   }
   // --minima: how often the variant's own search misses a lower minimum.
@@ -991,19 +1003,19 @@ int main(int argc, char** argv) {
     if (m.is_null()) continue;
     if (!header) {
       std::printf(
-          "\n| variant | compared | search=coordinate lower (by > 1e-4) | worst excess (case) | "
-          "coordinate failed | time coordinate / own |\n|---|---|---|---|---|---|\n");
+          "\n| variant | compared | search=%s lower (by > 1e-4) | worst excess (case) | "
+          "%s failed | time %s / own |\n|---|---|---|---|---|---|\n",
+          a.minima_search.c_str(), a.minima_search.c_str(), a.minima_search.c_str());
       header = true;
     }
-    std::printf(
-        "| %s | %llu | %llu (%llu) | %s (%llu) | %llu | %s |\n", variants[vi].label.c_str(),
-        m.at("compared").get<unsigned long long>(),
-        m.at("coordinate_lower").get<unsigned long long>(),
-        m.at("coordinate_lower_1e4").get<unsigned long long>(),
-        fmt("%.2g", m.at("worst_excess").get<double>()).c_str(),
-        m.at("worst_excess_case").get<unsigned long long>(),
-        m.at("coordinate_failed").get<unsigned long long>(),
-        fmt("%.3g", m.at("coordinate_ms").get<double>() / m.at("ms").get<double>()).c_str());
+    std::printf("| %s | %llu | %llu (%llu) | %s (%llu) | %llu | %s |\n", variants[vi].label.c_str(),
+                m.at("compared").get<unsigned long long>(),
+                m.at("reference_lower").get<unsigned long long>(),
+                m.at("reference_lower_1e4").get<unsigned long long>(),
+                fmt("%.2g", m.at("worst_excess").get<double>()).c_str(),
+                m.at("worst_excess_case").get<unsigned long long>(),
+                m.at("reference_failed").get<unsigned long long>(),
+                fmt("%.3g", m.at("reference_ms").get<double>() / m.at("ms").get<double>()).c_str());
   }
   if (!a.summary_json.empty()) {
     std::ofstream f(a.summary_json);
