@@ -223,6 +223,25 @@ TEST_F(Cli, MinEnergyKindsFromJson) {
   EXPECT_NE(b.err.find("given tangent"), std::string::npos) << b.err;
 }
 
+TEST_F(Cli, GlobalSearchIsOneOptionAway) {
+  // Issue 18: the grid search from the command line; method_report says which search ran, and
+  // the output, a request itself, fits the same curve again.
+  const std::string req = quote(kData + "/cond-g2-two-minima.json");
+  const CliRun a = run("fit " + req + " --report none");
+  const CliRun b = run("fit " + req + " --report none --set search=global");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const json ja = json::parse(a.out), jb = json::parse(b.out);
+  EXPECT_EQ(ja["method_report"]["search"], "newton");
+  EXPECT_EQ(jb["method_report"]["search"], "global");
+  EXPECT_EQ(jb["options"]["search"], "global");
+  EXPECT_LT(jb["method_report"]["energy"].get<double>(),
+            0.95 * ja["method_report"]["energy"].get<double>());
+  const CliRun c = run("fit " + quote(write_file("global.json", b.out)) + " --report none");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  EXPECT_EQ(json::parse(c.out)["segments"], jb["segments"]);
+}
+
 TEST_F(Cli, DefaultMethodAndStdin) {
   const std::string csv = slurp(kExample);
   const CliRun a = run("fit", csv);

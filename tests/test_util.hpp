@@ -2,9 +2,11 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -160,6 +162,91 @@ inline Searches fit_both_searches(const FitInput& in, MinEnergyOptions opt,
   opt.search = MinEnergySearch::kCoordinate;
   fit_min_energy(in, opt, level, s.coordinate_fit, &s.coordinate);
   return s;
+}
+
+/// Four points whose end directions are given, so that the energy Σ E_1/L has two unknowns,
+/// the directions at p[1] and p[2] (absolute angles).
+struct TwoFreeDirections {
+  std::array<Point, 4> p;
+  double start = 0.0, end = 0.0;  ///< the given directions at p[0] and p[3]
+  FitInput input() const {
+    FitInput in;
+    in.points = {p.begin(), p.end()};
+    in.kinds = {PointKind::kClamped, PointKind::kSmooth, PointKind::kSmooth, PointKind::kClamped};
+    in.tangents = {from_angle(start), std::nullopt, std::nullopt, from_angle(end)};
+    return in;
+  }
+  /// E_1(α, β)/L of span i with directions xa, xb at its ends: infinite outside the box Ω and,
+  /// for the elastic bases, where the directions are 180° or more apart.
+  double span(const BasicCurveMethod& m, std::size_t i, double xa, double xb) const {
+    const Vec2 d = p[i + 1] - p[i];
+    const double phi = std::atan2(d.y, d.x);
+    const double a = std::remainder(xa - phi, 2 * std::numbers::pi),
+                 b = std::remainder(xb - phi, 2 * std::numbers::pi);
+    if (std::abs(a) > m.omega || std::abs(b) > m.omega) return HUGE_VAL;
+    if (is_elastic(m.basis) && !(std::abs(a - b) < std::numbers::pi * (1 - 1e-12))) {
+      return HUGE_VAL;
+    }
+    return basic_energy(m, a, b).e / norm(d);
+  }
+  /// Σ E_1/L with the directions x1, x2 at p[1], p[2].
+  double energy(const BasicCurveMethod& m, double x1, double x2) const {
+    return span(m, 0, start, x1) + span(m, 1, x1, x2) + span(m, 2, x2, end);
+  }
+  /// The least energy by brute force: every pair of directions on a grid of `cells` per turn,
+  /// then pattern moves about the best, halving down to 1e-13 rad.
+  double brute_force(const BasicCurveMethod& m, int cells = 360) const {
+    const double h = 2 * std::numbers::pi / cells;
+    std::vector<double> first(cells), last(cells);
+    for (int i = 0; i < cells; ++i) {
+      first[i] = span(m, 0, start, i * h);
+      last[i] = span(m, 2, i * h, end);
+    }
+    double best = HUGE_VAL, x1 = 0.0, x2 = 0.0;
+    for (int i = 0; i < cells; ++i) {
+      for (int j = 0; j < cells; ++j) {
+        if (!(first[i] + last[j] < best)) continue;
+        const double e = first[i] + span(m, 1, i * h, j * h) + last[j];
+        if (e < best) best = e, x1 = i * h, x2 = j * h;
+      }
+    }
+    for (double s = h; s > 1e-13; s *= 0.5) {
+      for (bool moved = true; moved;) {
+        moved = false;
+        for (const auto& [d1, d2] : {std::pair{s, 0.0},
+                                     {-s, 0.0},
+                                     {0.0, s},
+                                     {0.0, -s},
+                                     {s, s},
+                                     {-s, -s},
+                                     {s, -s},
+                                     {-s, s}}) {
+          const double e = energy(m, x1 + d1, x2 + d2);
+          if (e < best) best = e, x1 += d1, x2 += d2, moved = true;
+        }
+      }
+    }
+    return best;
+  }
+};
+
+/// A random TwoFreeDirections: turns within ±max_turn_deg, steps 1 to 10, given directions within
+/// ±given_deg of their chords.
+inline TwoFreeDirections two_free_directions(std::uint64_t seed, double max_turn_deg,
+                                             double given_deg) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  constexpr double deg = std::numbers::pi / 180;
+  TwoFreeDirections t;
+  double heading = 0.0;
+  t.p[0] = {0, 0};
+  for (std::size_t i = 1; i < 4; ++i) {
+    if (i > 1) heading += u(rng) * max_turn_deg * deg;
+    t.p[i] = t.p[i - 1] + std::pow(10.0, 0.5 * (u(rng) + 1.0)) * from_angle(heading);
+  }
+  t.start = u(rng) * given_deg * deg;
+  t.end = heading + u(rng) * given_deg * deg;
+  return t;
 }
 
 }  // namespace fairspline::testing

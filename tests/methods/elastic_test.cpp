@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -362,7 +363,7 @@ TEST(ElasticSpline, LooksInTheSecondIntervalOfASharpStencil) {
   best = std::min(best, energy(at));
   EXPECT_GT(std::abs(std::remainder(at - bisector, 2 * kPi)), kPi - half_turn);  // second
   EXPECT_GT(best_first, 2.0 * best);  // 20.19 against 8.63
-  for (const char* search : {"newton", "coordinate"}) {
+  for (const char* search : {"newton", "coordinate", "global"}) {
     SCOPED_TRACE(search);
     const FitResult r = fit("elastic", in, {{"search", search}}, ReportLevel::kBasic);
     EXPECT_NEAR(exact_energy(r), best, 1e-9 * best);
@@ -386,6 +387,10 @@ TEST(ElasticSpline, LooksInTheSecondIntervalWithASmallerOmega) {
   options["search"] = "coordinate";
   const FitResult coordinate = fit("elastic", req.input, options, ReportLevel::kBasic);
   EXPECT_NEAR(exact_energy(newton), exact_energy(coordinate), 1e-9 * exact_energy(coordinate));
+  // search=global's grid finds a lower minimum still (40.47 against 41.83).
+  options["search"] = "global";
+  EXPECT_LE(exact_energy(fit("elastic", req.input, options, ReportLevel::kBasic)),
+            exact_energy(coordinate) * (1 + 1e-12));
   const Point p0 = req.input.points[0];
   const Vec2 in = p0 - req.input.points.back(), out = req.input.points[1] - p0;
   const double bisector = std::atan2(in.y, in.x) + 0.5 * angle(in, out);
@@ -412,6 +417,58 @@ TEST(ElasticSpline, CoordinateSearchIsNeverAboveNewtonNorTheReference) {
     EXPECT_LE(s.coordinate.energy, s.newton.energy * (1.0 + 1e-12));
     EXPECT_LE(s.coordinate.energy, ref.energy * (1.0 + 1e-9));
     if (s.coordinate.energy < s.newton.energy * (1.0 - 1e-6)) ++below;
+  }
+  EXPECT_GE(below, 1);
+}
+
+TEST(ElasticSpline, GlobalSearchReachesTheBruteForceMinimum) {
+  // Four points turning by up to 170° with both end directions given: two free directions.
+  // Brute force over both (a 1° grid, then pattern moves) finds 5.4285 and 3.3181; search=newton
+  // and search=coordinate stop in other minima (6.2948 and 3.6043 for both), search=global
+  // reaches it.
+  const BasicCurveMethod m{MinEnergyBasis::kElastic, 1.0, kPi};
+  const std::vector<testing::TwoFreeDirections> inputs{
+      {{{{0, 0},
+         {-1.5080533994009466, 2.5071407963843226},
+         {0.77239211780011519, 0.80717739834449898},
+         {0.79112823733353765, 5.4995505960457276}}},
+       2.5670326782388293,
+       1.1499413168626582},
+      {{{{0, 0},
+         {-4.2886418113020488, 6.4676922126853365},
+         {-3.6624454142962133, 8.9948077214396829},
+         {-8.6607939994607914, 4.4518446818910489}}},
+       1.194062981911185,
+       -3.0616524930350524}};
+  for (const testing::TwoFreeDirections& t : inputs) {
+    const double brute = t.brute_force(m);
+    std::map<std::string, double> energy;
+    for (const char* search : {"newton", "coordinate", "global"}) {
+      energy[search] = exact_energy(fit("elastic", t.input(), {{"search", search}}));
+    }
+    EXPECT_NEAR(energy["global"], brute, 1e-9 * brute);
+    EXPECT_GT(energy["newton"], 1.05 * brute);
+    EXPECT_GT(energy["coordinate"], 1.05 * brute);
+  }
+}
+
+TEST(ElasticSpline, GlobalSearchIsNeverAboveTheOthersOnSharpWalks) {
+  // Closed and open walks turning by up to 170°: search=global's grid holds every interval of
+  // every direction at once, and is lower than both local searches on some.
+  MinEnergyOptions o;
+  o.method = {MinEnergyBasis::kElastic, 1.0, kPi};
+  int below = 0;
+  for (std::uint64_t seed = 0; seed < 6; ++seed) {
+    SCOPED_TRACE(seed);
+    const FitInput in = input_of(random_walk(9, 40 + seed, 170), seed % 2 == 0);
+    const testing::Searches s = testing::fit_both_searches(in, o);
+    o.search = MinEnergySearch::kGlobal;
+    FitResult r;
+    MinEnergyReport global;
+    fit_min_energy(in, o, ReportLevel::kNone, r, &global);
+    EXPECT_LE(global.energy, s.newton.energy * (1.0 + 1e-12));
+    EXPECT_LE(global.energy, s.coordinate.energy * (1.0 + 1e-12));
+    if (global.energy < s.coordinate.energy * (1.0 - 1e-6)) ++below;
   }
   EXPECT_GE(below, 1);
 }

@@ -8,10 +8,12 @@ import pickle
 
 import numpy as np
 import pytest
+import scipy.optimize
 from scipy.interpolate import CubicSpline
 
 import fairspline
-from conftest import EXAMPLE, bezier_derivatives, example_points, input_json, random_walk
+from conftest import (EXAMPLE, SOURCE_DIR, bezier_derivatives, example_points, input_json,
+                      random_walk)
 
 # (method, CLI flags, Python keyword arguments): every method on the bundled example.
 CASES = [
@@ -254,8 +256,49 @@ def test_search_coordinate_is_one_keyword_away():
     assert a.method_report["search"] == "newton" and b.method_report["search"] == "coordinate"
     assert b.method_report["energy"] <= a.method_report["energy"] * (1 + 1e-12)
     with pytest.raises(fairspline.Error) as e:
-        fairspline.fit(pts, "quasi-elastic", search="global")
+        fairspline.fit(pts, "quasi-elastic", search="random")
     assert e.value.code == "bad_option"
+
+
+def test_search_global_reaches_the_brute_force_minimum():
+    # Issue 18: search="global" (a grid of directions by dynamic programming, then Newton) on four
+    # points with both end directions given, against a brute force over the two free directions
+    # written from the cond-g2 energy E_1 = 2l^2 cos(a - b) - 6l (cos a + cos b) + 4l^2 + 6
+    # (Theorem 4.4) with NumPy, polished by SciPy; search="newton" stops in a higher minimum.
+    req = json.loads((SOURCE_DIR / "tests" / "data" / "cond-g2-two-minima.json").read_text())
+    pts = np.array(req["points"])
+    tangents = req["tangents"]
+    lam = req["options"]["lambda"]
+    chords = np.diff(pts, axis=0)
+    phi = np.arctan2(chords[:, 1], chords[:, 0])
+    length = np.hypot(chords[:, 0], chords[:, 1])
+    start = np.arctan2(tangents[0][1], tangents[0][0])
+    end = np.arctan2(tangents[3][1], tangents[3][0])
+
+    def energy(x1, x2):
+        x = [start, x1, x2, end]
+        total = 0.0
+        for i in range(3):
+            a = np.remainder(x[i] - phi[i] + np.pi, 2 * np.pi) - np.pi
+            b = np.remainder(x[i + 1] - phi[i] + np.pi, 2 * np.pi) - np.pi
+            e = 2 * lam**2 * np.cos(a - b) - 6 * lam * (np.cos(a) + np.cos(b)) + 4 * lam**2 + 6
+            total = total + np.where((np.abs(a) <= np.pi / 2) & (np.abs(b) <= np.pi / 2),
+                                     e / length[i], np.inf)
+        return total
+
+    grid = np.linspace(-np.pi, np.pi, 721)
+    g1, g2 = np.meshgrid(grid, grid, indexing="ij")
+    e = energy(g1, g2)
+    i, j = np.unravel_index(np.argmin(e), e.shape)
+    best = scipy.optimize.minimize(lambda v: energy(v[0], v[1]), [grid[i], grid[j]],
+                                   method="Nelder-Mead",
+                                   options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 4000})
+    kw = dict(kinds=req["kinds"], tangents=tangents, options=req["options"])
+    newton = fairspline.fit(pts, "cond-g2", **kw)
+    curve = fairspline.fit(pts, "cond-g2", search="global", **kw)
+    assert curve.method_report["search"] == "global"
+    assert curve.method_report["energy"] == pytest.approx(best.fun, rel=1e-9)
+    assert newton.method_report["energy"] > 1.05 * best.fun
 
 
 def test_repr():

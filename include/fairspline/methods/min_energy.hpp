@@ -89,6 +89,13 @@ enum class MinEnergySearch {
   /// sweeps until none moves), then projected Newton from there: never above the coordinate
   /// search's energy; about 100× the time (docs/methods/min-energy.md, "Which minimum").
   kCoordinate,
+  /// The least energy over a grid of directions at every node (4° apart, 5° for
+  /// restricted-elastic, 10° for elastic), found exactly by dynamic programming along the
+  /// chain; projected Newton from there and from the least points of other basins of the grid,
+  /// then from finer grids about each minimum; search=newton's minimum where that is lower.
+  /// O(n K²) evaluations of E_1 for K grid directions a node; about 50× search=newton's time
+  /// (docs/methods/min-energy.md, "Which minimum").
+  kGlobal,
 };
 
 struct MinEnergyOptions {
