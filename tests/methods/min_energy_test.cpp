@@ -1674,6 +1674,31 @@ RC_GTEST_PROP(MinEnergyProps, InvariantUnderSimilaritiesMirrorAndReversal, ()) {
 /// max_iterations unset: 200 up to 10³ points, then growing with log10 n (long elastic walks
 /// needed 208–397 iterations at 10⁴–10⁵ points), at least 1000 with data balls; given, it bounds
 /// the data-ball optimizer too.
+RC_GTEST_PROP(MinEnergyProps, GlobalSearchIsNeverAboveBruteForceNorNewton, ()) {
+  // Two free directions between given end directions, turns up to 1.9 Ω: search=global is
+  // never above a brute force on a 2° grid polished by pattern moves, nor above search=newton.
+  const auto seed = static_cast<std::uint64_t>(*rc::gen::inRange(0, 1000000));
+  const int which = *rc::gen::inRange(0, 4);
+  const BasicCurveMethod m = which == 0   ? cond_g2(1.0)
+                             : which == 1 ? cond_g2(*rc::gen::inRange(1, 29) * 0.1)
+                             : which == 2 ? jaklic_zagar()
+                                          : yong_cheng();
+  const testing::TwoFreeDirections t =
+      testing::two_free_directions(seed, 1.9 * m.omega / kDeg, m.omega / kDeg);
+  const double brute = t.brute_force(m, 180);
+  RC_PRE(std::isfinite(brute));
+  MinEnergyOptions o;
+  o.method = m;
+  FitResult r;
+  MinEnergyReport global, newton;
+  o.search = MinEnergySearch::kGlobal;
+  fit_min_energy(t.input(), o, ReportLevel::kNone, r, &global);
+  o.search = MinEnergySearch::kNewton;
+  fit_min_energy(t.input(), o, ReportLevel::kNone, r, &newton);
+  RC_ASSERT(global.energy <= brute * (1 + 1e-9));
+  RC_ASSERT(global.energy <= newton.energy * (1 + 1e-12));
+}
+
 TEST(MinEnergyIterations, TheDefaultLimitGrowsWithThePointsAndDataBalls) {
   constexpr MinEnergyBasis qe = MinEnergyBasis::kCondG2, el = MinEnergyBasis::kElastic;
   EXPECT_EQ(detail::default_iteration_limit(3, false, qe), 200);
