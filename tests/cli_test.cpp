@@ -235,6 +235,8 @@ TEST_F(Cli, GlobalSearchIsOneOptionAway) {
   EXPECT_EQ(ja["method_report"]["search"], "newton");
   EXPECT_EQ(jb["method_report"]["search"], "global");
   EXPECT_EQ(jb["options"]["search"], "global");
+  EXPECT_EQ(ja["method_report"]["minimum"], "newton");
+  EXPECT_EQ(jb["method_report"]["minimum"], "global");  // lower than newton's
   EXPECT_LT(jb["method_report"]["energy"].get<double>(),
             0.95 * ja["method_report"]["energy"].get<double>());
   const CliRun c = run("fit " + quote(write_file("global.json", b.out)) + " --report none");

@@ -596,6 +596,8 @@ struct ChainResult {
   /// (released and locked again twice: docs/methods/elastic.md, "Ridges"), so not certainly
   /// a KKT point.
   bool ridge_kept = false;
+  /// search=coordinate or global: the minimum is that search's, not search=newton's.
+  bool by_search = false;
   std::size_t worst = 0;  ///< the chain node with the largest residual
 };
 
@@ -1531,6 +1533,14 @@ bool prefer_newton(const Chain& alt, const ChainResult& by_newton, const Chain& 
   return evaluate(alt, m, alt.x, false, ev) < evaluate(ch, m, ch.x, false, ev);
 }
 
+/// Whether the searched minimum `ch` is lower than search=newton's `alt` beyond rounding (not
+/// the same minimum found twice).
+bool below_newton(const Chain& ch, const Chain& alt, const BasicCurveMethod& m) {
+  Evaluation ev;
+  const double newton = evaluate(alt, m, alt.x, false, ev);
+  return evaluate(ch, m, ch.x, false, ev) < newton - 1e-12 * std::abs(newton);
+}
+
 void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale);
 ChainResult optimize_global(Chain& ch, const MinEnergyOptions& opt, double gscale);
 
@@ -1557,6 +1567,7 @@ ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gsc
     take_directions(ch, alt);
     return by_newton;
   }
+  r.by_search = full && below_newton(ch, alt, opt.method);
   return r;
 }
 
@@ -2377,6 +2388,7 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
     take_directions(ch, alt);
     return by_newton;
   }
+  r.by_search = below_newton(ch, alt, opt.method);
   return r;
 }
 
@@ -2989,6 +3001,7 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
     rep.windows += r.windows;
     rep.window_iterations += r.window_iterations;
     rep.projected_gradient = std::max(rep.projected_gradient, r.pg);
+    rep.below_newton = rep.below_newton || r.by_search;
     converged = converged && (r.converged || r.at_precision);
     at_precision = at_precision || r.at_precision;
     if (r.no_start) {
@@ -3108,15 +3121,18 @@ void detail::fit_min_energy_at(const FitInput& input, const MinEnergyOptions& op
                             .residual = rep.projected_gradient,
                             .tolerance = options.tolerance,
                             .active = rep.active};
-  out.method_report = {{"iterations", rep.iterations},
-                       {"energy", rep.energy},
-                       {"projected_gradient", rep.projected_gradient},
-                       {"status", !converged     ? "iteration_limit"
-                                  : at_precision ? "conditioning_limit"
-                                                 : "converged"},
-                       {"pieces", rep.pieces},
-                       {"omega_deg", m.omega * 180.0 / kPi},
-                       {"search", detail::min_energy_search_name(options.search)}};
+  out.method_report = {
+      {"iterations", rep.iterations},
+      {"energy", rep.energy},
+      {"projected_gradient", rep.projected_gradient},
+      {"status", !converged     ? "iteration_limit"
+                 : at_precision ? "conditioning_limit"
+                                : "converged"},
+      {"pieces", rep.pieces},
+      {"omega_deg", m.omega * 180.0 / kPi},
+      {"search", detail::min_energy_search_name(options.search)},
+      {"minimum", detail::min_energy_search_name(rep.below_newton ? options.search
+                                                                  : MinEnergySearch::kNewton)}};
   if (elastic) out.method_report["bezier_accuracy"] = options.accuracy;
   if (level != ReportLevel::kNone) {  // the per-node and per-span entries
     out.method_report["active"] = rep.active;

@@ -1054,8 +1054,15 @@ TEST(MinEnergyFit, GlobalSearchReachesTheBruteForceMinimum) {
         EXPECT_NEAR(recomputed_energy(r, m), rep.energy, 1e-12 * rep.energy);
         return rep.energy;
       };
-      EXPECT_NEAR(energy(MinEnergySearch::kGlobal), brute, 1e-9 * brute);
-      if (energy(MinEnergySearch::kNewton) > brute * (1 + 1e-6)) ++newton_above;
+      const double global = energy(MinEnergySearch::kGlobal);
+      EXPECT_NEAR(global, brute, 1e-9 * brute);
+      const double newton = energy(MinEnergySearch::kNewton);
+      if (newton > brute * (1 + 1e-6)) ++newton_above;
+      // method_report "minimum": the grid's where it is below Newton's.
+      o.search = MinEnergySearch::kGlobal;
+      FitResult g;
+      fit_min_energy(t.input(), o, ReportLevel::kNone, g);
+      EXPECT_EQ(g.method_report.at("minimum"), global < newton * (1 - 1e-9) ? "global" : "newton");
       if (energy(MinEnergySearch::kCoordinate) > brute * (1 + 1e-6)) ++coordinate_above;
     }
   }

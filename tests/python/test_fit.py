@@ -296,7 +296,8 @@ def test_search_global_reaches_the_brute_force_minimum():
     kw = dict(kinds=req["kinds"], tangents=tangents, options=req["options"])
     newton = fairspline.fit(pts, "cond-g2", **kw)
     curve = fairspline.fit(pts, "cond-g2", search="global", **kw)
-    assert curve.method_report["search"] == "global"
+    assert curve.method_report["search"] == "global" and curve.method_report["minimum"] == "global"
+    assert newton.method_report["minimum"] == "newton"
     assert curve.method_report["energy"] == pytest.approx(best.fun, rel=1e-9)
     assert newton.method_report["energy"] > 1.05 * best.fun
 

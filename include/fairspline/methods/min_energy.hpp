@@ -149,6 +149,10 @@ struct MinEnergyReport {
   std::vector<ElasticSpan> spans;   ///< elastic bases only, one per span
   /// elastic basis: spans whose |α − β| sits at its bound 180° (a coupled constraint)
   std::vector<std::size_t> active_spans;
+  /// search=coordinate or global: the minimum returned is that search's on some piece, lower
+  /// than search=newton's (which it returns on the others); method_report "minimum" names the
+  /// search the returned minimum came from.
+  bool below_newton = false;
 };
 
 /// The minimal-energy curve through input.points (open or closed; clamped ends via
