@@ -1291,18 +1291,11 @@ class GridSearch {
       for (std::size_t t = 1; t < k_; ++t)
         if (c_[t].size() < c_[first_].size()) first_ = t;
     }
-    if (entries <= kGlobalTableEntries) {
+    if (entries <= kGlobalTableEntries) {  // filled as the passes need the entries
       table_.resize(ch.segments());
       for (std::size_t q = 0; q < table_.size(); ++q) {
-        const std::size_t i = order(q), j = order(q + 1);
-        table_[q].resize(c_[i].size() * c_[j].size());
-        for (std::size_t v = 0; v < c_[j].size(); ++v) {
-          detail::ElasticaHint hint;
-          for (std::size_t u = 0; u < c_[i].size(); ++u) {
-            table_[q][u * c_[j].size() + v] =
-                static_cast<float>(grid_energy(m, ch.w[i], c_[i], u, c_[j], v, hint));
-          }
-        }
+        table_[q].assign(c_[order(q)].size() * c_[order(q + 1)].size(),
+                         std::numeric_limits<float>::quiet_NaN());
       }
     }
   }
@@ -1390,10 +1383,31 @@ class GridSearch {
 
   std::size_t order(std::size_t q) const { return (first_ + q) % k_; }
 
-  double energy(std::size_t q, std::size_t u, std::size_t v, detail::ElasticaHint& hint) const {
+  double energy(std::size_t q, std::size_t u, std::size_t v, detail::ElasticaHint& hint) {
     const std::size_t i = order(q), j = order(q + 1);
-    if (!table_.empty()) return table_[q][u * c_[j].size() + v];
-    return grid_energy(m_, ch_.w[i], c_[i], u, c_[j], v, hint);
+    if (table_.empty()) return grid_energy(m_, ch_.w[i], c_[i], u, c_[j], v, hint);
+    float& e = table_[q][u * c_[j].size() + v];
+    if (std::isnan(e)) e = static_cast<float>(grid_energy(m_, ch_.w[i], c_[i], u, c_[j], v, hint));
+    return e;
+  }
+
+  /// min over u of from[u] + E(u), taking u = first before the others and skipping every u
+  /// whose from[u] alone is not below the least so far (the energies are not negative), which
+  /// leaves most of the grid's E_1 unevaluated. Returns the least and its u.
+  template <class Span>
+  static std::pair<double, std::size_t> least(const std::vector<double>& from, std::size_t first,
+                                              Span&& span) {
+    double best = kInf;
+    std::size_t at = 0;
+    auto take = [&](std::size_t u) {
+      if (!(from[u] < best)) return;
+      const double e = from[u] + span(u);
+      if (e < best) best = e, at = u;
+    };
+    take(first);
+    for (std::size_t u = 0; u < from.size(); ++u)
+      if (u != first) take(u);
+    return {best, at};
   }
 
   /// f_[q][v]: the least energy of the spans before node order(q) with choice v there (from
@@ -1404,16 +1418,16 @@ class GridSearch {
     f_[0].assign(c_[order(0)].size(), ch_.closed ? kInf : 0.0);
     if (ch_.closed) f_[0][cut] = 0.0;
     for (std::size_t q = 0; q + 1 < k_; ++q) {
-      const std::size_t i = order(q), j = order(q + 1);
+      const std::size_t j = order(q + 1);
       f_[q + 1].assign(c_[j].size(), kInf);
       fb_[q + 1].assign(c_[j].size(), 0);
+      const std::size_t low =
+          static_cast<std::size_t>(std::ranges::min_element(f_[q]) - f_[q].begin());
       for (std::size_t v = 0; v < c_[j].size(); ++v) {
         detail::ElasticaHint hint;
-        for (std::size_t u = 0; u < c_[i].size(); ++u) {
-          if (!(f_[q][u] < kInf)) continue;
-          const double e = f_[q][u] + energy(q, u, v, hint);
-          if (e < f_[q + 1][v]) f_[q + 1][v] = e, fb_[q + 1][v] = static_cast<std::uint16_t>(u);
-        }
+        const auto [e, u] = least(f_[q], low, [&](std::size_t u) { return energy(q, u, v, hint); });
+        f_[q + 1][v] = e;
+        fb_[q + 1][v] = static_cast<std::uint16_t>(u);
       }
     }
   }
@@ -1434,22 +1448,23 @@ class GridSearch {
       }
     }
     for (std::size_t q = k_ - 1; q-- > 0;) {
-      const std::size_t i = order(q), j = order(q + 1);
+      const std::size_t i = order(q);
       b_[q].assign(c_[i].size(), kInf);
       bb_[q].assign(c_[i].size(), 0);
+      const std::size_t low =
+          static_cast<std::size_t>(std::ranges::min_element(b_[q + 1]) - b_[q + 1].begin());
       for (std::size_t u = 0; u < c_[i].size(); ++u) {
         detail::ElasticaHint hint;
-        for (std::size_t v = 0; v < c_[j].size(); ++v) {
-          if (!(b_[q + 1][v] < kInf)) continue;
-          const double e = energy(q, u, v, hint) + b_[q + 1][v];
-          if (e < b_[q][u]) b_[q][u] = e, bb_[q][u] = static_cast<std::uint16_t>(v);
-        }
+        const auto [e, v] =
+            least(b_[q + 1], low, [&](std::size_t v) { return energy(q, u, v, hint); });
+        b_[q][u] = e;
+        bb_[q][u] = static_cast<std::uint16_t>(v);
       }
     }
   }
 
   /// The least end of the forward pass from `cut`, and its path.
-  GridPath best_end(std::size_t cut) const {
+  GridPath best_end(std::size_t cut) {
     GridPath p;
     std::size_t end = 0;
     const std::size_t last = order(k_ - 1);
