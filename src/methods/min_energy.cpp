@@ -1537,23 +1537,26 @@ void take_directions(Chain& to, const Chain& from) {
   std::ranges::copy(from.hi, to.hi.begin());
 }
 
-/// search=coordinate keeps search=newton's minimum (`alt`, from `by_newton`) over its own
-/// (`ch`, from `r`) where that one is more certainly a minimum (settled, and without a ridge
-/// kept locked against its force), or as certain and lower.
-bool prefer_newton(const Chain& alt, const ChainResult& by_newton, const Chain& ch,
-                   const ChainResult& r, const BasicCurveMethod& m) {
-  auto doubt = [](const ChainResult& x) { return !settled(x) ? 2 : x.ridge_kept ? 1 : 0; };
-  if (doubt(by_newton) != doubt(r)) return doubt(by_newton) < doubt(r);
-  Evaluation ev;
-  return evaluate(alt, m, alt.x, false, ev) < evaluate(ch, m, ch.x, false, ev);
+/// How uncertain it is that a chain result is a minimum: 0 settled, 1 settled only with a ridge
+/// kept locked against its force (docs/methods/elastic.md, "Ridges"), 2 not settled.
+int doubt(const ChainResult& r) {
+  return !settled(r) ? 2 : r.ridge_kept ? 1 : 0;
 }
 
-/// Whether the searched minimum `ch` is lower than search=newton's `alt` beyond rounding (not
-/// the same minimum found twice).
-bool below_newton(const Chain& ch, const Chain& alt, const BasicCurveMethod& m) {
+/// search=coordinate or global: their minimum (`ch`, from `r`) against search=newton's (`alt`,
+/// from `by_newton`). Newton's is kept where it is more certainly a minimum, or as certain and
+/// lower; else the search's, marked by_search where it is lower beyond rounding (not the same
+/// minimum found twice).
+ChainResult keep_lower(Chain& ch, ChainResult r, const Chain& alt, const ChainResult& by_newton,
+                       const BasicCurveMethod& m) {
   Evaluation ev;
-  const double newton = evaluate(alt, m, alt.x, false, ev);
-  return evaluate(ch, m, ch.x, false, ev) < newton - 1e-12 * std::abs(newton);
+  const double newton = evaluate(alt, m, alt.x, false, ev), own = evaluate(ch, m, ch.x, false, ev);
+  if (doubt(by_newton) != doubt(r) ? doubt(by_newton) < doubt(r) : newton < own) {
+    take_directions(ch, alt);
+    return by_newton;
+  }
+  r.by_search = own < newton - 1e-12 * std::abs(newton);
+  return r;
 }
 
 void start_quadratic(Chain& ch, const BasicCurveMethod& m, double gscale);
@@ -1578,12 +1581,7 @@ ChainResult optimize_searched(Chain& ch, const MinEnergyOptions& opt, double gsc
     coordinate_search(ch, opt.method, 0);
     r = optimize(ch, opt, gscale);
   }
-  if (full && prefer_newton(alt, by_newton, ch, r, opt.method)) {
-    take_directions(ch, alt);
-    return by_newton;
-  }
-  r.by_search = full && below_newton(ch, alt, opt.method);
-  return r;
+  return full ? keep_lower(ch, r, alt, by_newton, opt.method) : r;
 }
 
 // ---- the elastic basis: coupled constraints |α − β| <= π between neighbouring directions ----
@@ -2280,7 +2278,7 @@ ChainResult optimize_global(Chain& ch, const MinEnergyOptions& opt, double gscal
     ChainResult r;
     double energy;
   };
-  auto certain = [](const ChainResult& r) { return settled(r) && !r.ridge_kept; };
+  auto certain = [](const ChainResult& r) { return doubt(r) == 0; };
   Evaluation ev;
   ChainResult work;
   std::vector<Minimum> minima;  // distinct, certain (or the first point's, whatever it is)
@@ -2399,12 +2397,7 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
       try_other_arcs(ch, opt, gscale, {.other_arc = omega}, r);
     }
   }
-  if (prefer_newton(alt, by_newton, ch, r, opt.method)) {
-    take_directions(ch, alt);
-    return by_newton;
-  }
-  r.by_search = below_newton(ch, alt, opt.method);
-  return r;
+  return keep_lower(ch, r, alt, by_newton, opt.method);
 }
 
 std::string sci(double v) {
