@@ -45,6 +45,8 @@ SYMBOLS = [
     ("fit_options_accuracy", "decl", "fit.hpp", r"^\s*std::optional<double> accuracy\{\};"),
     ("fit_options_best_effort", "decl", "fit.hpp", r"^\s*bool best_effort = false;"),
     ("fit_options_diagnostics", "decl", "fit.hpp", r"^\s*bool diagnostics = true;"),
+    ("fit_options_time_limit", "decl", "fit.hpp", r"^\s*std::optional<double> time_limit\{\};"),
+    ("fit_options_progress", "decl", "fit.hpp", r"^\s*std::function<bool\(const FitProgress&\)> progress\{\};"),
     ("input_knots", "decl", "fit.hpp", r"^\s*std::vector<double> knots;\s*$"),
     ("input_tangents", "decl", "fit.hpp", r"^\s*std::vector<std::optional<Vec2>> tangents;"),
     ("input_kinds", "decl", "fit.hpp", r"^\s*std::vector<PointKind> kinds;"),

@@ -525,24 +525,55 @@ FitResult py_fit(py::handle points, const std::string& method, bool closed,
                  const py::object& out_tangents, const py::object& corners_deg,
                  const py::object& radii, const py::object& knots, const std::string& report,
                  std::optional<double> accuracy, bool best_effort, bool diagnostics,
+                 std::optional<double> time_limit, const py::object& progress,
                  const py::object& options, const py::kwargs& kwargs) {
   const FitInput in = make_input(points, closed, alpha, start_tangent, end_tangent, tangents, kinds,
                                  knots, {states, in_tangents, out_tangents, corners_deg, radii});
   const json opts = options_json(options, kwargs);
-  const fairspline::FitOptions fit_options{.level = fairspline::io::parse_report_level(report),
-                                           .accuracy = accuracy,
-                                           .diagnostics = diagnostics,
-                                           .best_effort = best_effort};
-  py::gil_scoped_release release;
-  return fairspline::fit(method, in, opts, fit_options);
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
+    invalid("progress must be None or a callable progress(stage, done, total, seconds)");
+  }
+  fairspline::FitOptions fit_options{.level = fairspline::io::parse_report_level(report),
+                                     .accuracy = accuracy,
+                                     .diagnostics = diagnostics,
+                                     .best_effort = best_effort,
+                                     .time_limit = time_limit};
+  // Between a long fit's steps (every 0.1 s) the interpreter looks for Ctrl-C and calls
+  // `progress` (every 0.5 s); either stops the fit, and the Python exception is raised instead
+  // of the library's "cancelled".
+  bool raised = false;
+  auto last_call = std::chrono::steady_clock::now();
+  fit_options.progress_interval = 0.1;
+  fit_options.progress = [&](const fairspline::FitProgress& p) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) return !(raised = true);
+    const auto now = std::chrono::steady_clock::now();
+    if (progress.is_none() || now - last_call < std::chrono::milliseconds(500)) return true;
+    last_call = now;
+    try {
+      const py::object go = progress(std::string(p.stage), p.done, p.total, p.seconds);
+      return go.is_none() || go.cast<bool>();
+    } catch (py::error_already_set& e) {
+      e.restore();
+      return !(raised = true);
+    }
+  };
+  try {
+    py::gil_scoped_release release;
+    return fairspline::fit(method, in, opts, fit_options);
+  } catch (const Error&) {
+    if (raised) throw py::error_already_set();
+    throw;
+  }
 }
 
 py::list py_fit_many(py::iterable curves, const std::string& method, bool closed,
                      std::optional<double> alpha, const py::object& start_tangent,
                      const py::object& end_tangent, std::optional<long long> threads,
                      const std::string& report, std::optional<double> accuracy, bool best_effort,
-                     bool diagnostics, const std::string& errors, const py::object& progress,
-                     const py::object& options, const py::kwargs& kwargs) {
+                     bool diagnostics, std::optional<double> time_limit, const std::string& errors,
+                     const py::object& progress, const py::object& options,
+                     const py::kwargs& kwargs) {
   if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
     invalid("progress must be None or a callable progress(done, total)");
   }
@@ -553,7 +584,8 @@ py::list py_fit_many(py::iterable curves, const std::string& method, bool closed
   batch.fit = {.level = fairspline::io::parse_report_level(report),
                .accuracy = accuracy,
                .diagnostics = diagnostics,
-               .best_effort = best_effort};
+               .best_effort = best_effort,
+               .time_limit = time_limit};
   if (threads) {
     if (*threads < 0 || *threads > 4096) invalid("threads must be None or a count in [0, 4096]");
     batch.threads = static_cast<unsigned>(*threads);
@@ -710,6 +742,14 @@ Parameters
                std::string(doc::fit_options_best_effort) + " Default False.") +
          param("diagnostics", "bool",
                std::string(doc::fit_options_diagnostics) + " Default True.") +
+         param("time_limit", "float or None",
+               std::string(doc::fit_options_time_limit) + " None: no limit.") +
+         param("progress", "callable or None",
+               "progress(stage, done, total, seconds), called on the calling thread about every "
+               "0.5 s of a long fit (see FitProgress: total is 0 when the number of steps is "
+               "not known in advance), e.g. to update a bar. Returning False stops the fit with "
+               "fairspline.Error \"cancelled\"; an exception it raises stops the fit and is "
+               "raised.") +
          param("options, **options", "dict",
                std::string("Method options (a dict, merged with the keyword arguments), validated "
                            "against the method's schema (see methods()): ") +
@@ -728,7 +768,11 @@ Raises
 fairspline.Error
     A ValueError with .code and .index (the offending point): e.g. "non_finite" for NaN/Inf,
     "repeated_point", "too_few_points", "unknown_method", "unknown_option", "bad_option",
-    "infeasible"; points that are not an (n, 2) array give "invalid_argument".
+    "infeasible", "cancelled" (past time_limit, or progress returned False); points that are
+    not an (n, 2) array give "invalid_argument".
+KeyboardInterrupt
+    Ctrl-C stops a long fit between two of its steps (within about 0.1 s for the iterative
+    methods).
 
 Examples
 --------
@@ -759,6 +803,8 @@ curves : iterable of array_like, each of shape (n_i, 2)
 method, closed, alpha, start_tangent, end_tangent, accuracy, best_effort, diagnostics, options,
 **options
     As for fit().
+time_limit : float or None
+    As for fit(), for each curve: a curve that runs past it fails with "cancelled".
 )" + param("threads", "int or None", std::string(doc::batch_threads) + ". None: every core.") +
          param("report", "{\"none\", \"basic\", \"full\"}", "As for fit(); \"none\" is fastest.") +
          param("errors", "{\"raise\", \"return\"}",
@@ -1553,15 +1599,17 @@ PYBIND11_MODULE(_core, m) {
         py::arg("out_tangents") = py::none(), py::arg("corners_deg") = py::none(),
         py::arg("radii") = py::none(), py::arg("knots") = py::none(), py::arg("report") = "basic",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
-        py::arg("diagnostics") = true, py::arg("options") = py::none(), keep(fit_doc()));
+        py::arg("diagnostics") = true, py::arg("time_limit") = py::none(),
+        py::arg("progress") = py::none(), py::arg("options") = py::none(), keep(fit_doc()));
 
   m.def("fit_many", &py_fit_many, py::arg("curves"), py::arg("method") = default_method,
         py::arg("closed") = false, py::arg("alpha") = py::none(),
         py::arg("start_tangent") = py::none(), py::arg("end_tangent") = py::none(), py::kw_only(),
         py::arg("threads") = py::none(), py::arg("report") = "basic",
         py::arg("accuracy") = py::none(), py::arg("best_effort") = false,
-        py::arg("diagnostics") = true, py::arg("errors") = "raise",
-        py::arg("progress") = py::none(), py::arg("options") = py::none(), keep(fit_many_doc()));
+        py::arg("diagnostics") = true, py::arg("time_limit") = py::none(),
+        py::arg("errors") = "raise", py::arg("progress") = py::none(),
+        py::arg("options") = py::none(), keep(fit_many_doc()));
 
   m.def(
       "read_curve_ensemble",

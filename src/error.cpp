@@ -32,6 +32,8 @@ std::string_view error_code_name(ErrorCode code) {
       return "bad_option";
     case ErrorCode::kIoError:
       return "io_error";
+    case ErrorCode::kCancelled:
+      return "cancelled";
   }
   return "unknown";
 }

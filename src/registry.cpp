@@ -10,6 +10,7 @@
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
 #include "detail/normalize.hpp"
+#include "detail/progress.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
@@ -399,6 +400,11 @@ FitInput refit_input(const FitResult& result) {
   return in;
 }
 
+namespace {
+void fit_watched(const MethodInfo& method, const FitInput& input, const nlohmann::json& options,
+                 const FitOptions& fit_options, FitResult& out);
+}  // namespace
+
 void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               const FitOptions& fit_options, FitResult& out) {
   const MethodInfo& method = find_method(method_name);
@@ -406,6 +412,30 @@ void fit_into(std::string_view method_name, const FitInput& input, const nlohman
     throw Error(ErrorCode::kBadOption, "the accuracy must be a number between 0 and 1, got " +
                                            nlohmann::json(*fit_options.accuracy).dump());
   }
+  if (fit_options.time_limit && !(*fit_options.time_limit > 0.0)) {
+    throw Error(ErrorCode::kBadOption, "the time limit must be a positive number of seconds, got " +
+                                           nlohmann::json(*fit_options.time_limit).dump());
+  }
+  if (!(fit_options.progress_interval >= 0.0)) {
+    throw Error(ErrorCode::kBadOption,
+                "the progress interval must be a number of seconds, 0 or more, got " +
+                    nlohmann::json(fit_options.progress_interval).dump());
+  }
+  detail::FitWatch watch(fit_options);
+  try {
+    fit_watched(method, input, options, fit_options, out);
+  } catch (const Error&) {
+    // A solver that caught the stop and failed otherwise still failed because of the stop.
+    if (watch.stopped()) throw *watch.stopped();
+    throw;
+  }
+  if (watch.stopped()) throw *watch.stopped();
+}
+
+namespace {
+
+void fit_watched(const MethodInfo& method, const FitInput& input, const nlohmann::json& options,
+                 const FitOptions& fit_options, FitResult& out) {
   nlohmann::json resolved = resolve_options(method, options);
   FitInput kinds_only, completed;
   const FitInput& in =
@@ -427,12 +457,15 @@ void fit_into(std::string_view method_name, const FitInput& input, const nlohman
   // (Mapped back, numbers near the double range's ends may overflow after all.)
   if (!method.checks_own_output || nz) detail::check_finite_output(out, method.name);
   if (fit_options.level != ReportLevel::kNone) {
+    detail::checkpoint("report", 0);
     DiagnosticsOptions d;
     d.energy.accuracy = fit_options.report_accuracy();
     d.intersection_accuracy = fit_options.report_accuracy();
     out.report = make_report(out.spline, out.points, fit_options.level, d);
   }
 }
+
+}  // namespace
 
 void fit_into(std::string_view method_name, const FitInput& input, const nlohmann::json& options,
               ReportLevel level, FitResult& out) {

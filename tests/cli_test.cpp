@@ -12,6 +12,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -242,6 +243,64 @@ TEST_F(Cli, GlobalSearchIsOneOptionAway) {
   const CliRun c = run("fit " + quote(write_file("global.json", b.out)) + " --report none");
   ASSERT_EQ(c.exit_code, 0) << c.err;
   EXPECT_EQ(json::parse(c.out)["segments"], jb["segments"]);
+}
+
+/// A sharp 300-point walk: the elastic spline's grid search takes about two seconds on it.
+std::string slow_walk_request(double turn_deg = 150) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> turn(-turn_deg * std::numbers::pi / 180,
+                                              turn_deg * std::numbers::pi / 180);
+  std::uniform_real_distribution<double> step(0.5, 2.0);
+  json points = json::array();
+  double x = 0, y = 0, h = 0;
+  for (int i = 0; i < 300; ++i) {
+    points.push_back({x, y});
+    h += turn(rng);
+    const double s = step(rng);
+    x += s * std::cos(h), y += s * std::sin(h);
+  }
+  return json{{"points", points}, {"method", "elastic"}, {"options", {{"search", "global"}}}}
+      .dump();
+}
+
+TEST_F(Cli, ATimeLimitStopsTheFitAndProgressShowsItsStages) {
+  const std::string req = quote(write_file("slow.json", slow_walk_request()));
+  const CliRun a = run("fit " + req + " --time-limit 0.2 --report none");
+  EXPECT_EQ(a.exit_code, 1);
+  EXPECT_TRUE(a.out.empty());
+  EXPECT_NE(a.err.find("fairspline: error [cancelled]: the fit was stopped at its time limit of "
+                       "0.2 s ("),
+            std::string::npos)
+      << a.err;
+  // The request's own limit, and the flag over it.
+  json body = json::parse(slow_walk_request());
+  body["time_limit"] = 0.1;
+  EXPECT_EQ(run("fit -", body.dump()).exit_code, 1);
+  body["time_limit"] = "soon";
+  const CliRun bad = run("fit -", body.dump());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("time_limit: expected a number of seconds"), std::string::npos) << bad.err;
+  EXPECT_EQ(run("fit " + req + " --time-limit 0").exit_code, 2);
+  // --progress: a line per half second on stderr (no terminal here), then the curve.
+  const CliRun p = run("fit " + req + " --progress --report none");
+  EXPECT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_EQ(p.err.find("fairspline: "), 0u) << p.err;
+  EXPECT_NE(p.err.find(", 0.5 s\n"), std::string::npos) << p.err;
+  EXPECT_NE(p.err.find("fairspline: global search: "), std::string::npos) << p.err;
+  EXPECT_NE(p.err.find(" of 300, "), std::string::npos) << p.err;
+  EXPECT_EQ(json::parse(p.out)["method_report"]["search"], "global");
+  // Batch: the limit is per record, and the run goes on.
+  json quick = {{"points", {{0, 0}, {1, 1}, {2, 0}}}};
+  const std::string lines = quick.dump() + "\n" + slow_walk_request() + "\n" + quick.dump() + "\n";
+  const CliRun b = run("batch --time-limit 0.2 --report none --threads 1", lines);
+  EXPECT_EQ(b.exit_code, 1);
+  std::vector<json> records;
+  std::istringstream out(b.out);
+  for (std::string line; std::getline(out, line);) records.push_back(json::parse(line));
+  ASSERT_EQ(records.size(), 3u) << b.out;
+  EXPECT_TRUE(records[0].contains("segments"));
+  EXPECT_EQ(records[1]["error"]["code"], "cancelled");
+  EXPECT_TRUE(records[2].contains("segments"));
 }
 
 TEST_F(Cli, DefaultMethodAndStdin) {

@@ -12,11 +12,13 @@ namespace fairspline::cli {
 /// --accuracy, --best-effort and --no-diagnostics of `fit` and `batch`: each overrides the
 /// request's (a line's) own.
 struct FitFlags {
-  std::optional<double> accuracy;  ///< else the request's, else the default
-  bool best_effort = false;        ///< or the request's "best_effort": true
-  bool no_diagnostics = false;     ///< or the request's "diagnostics": false
+  std::optional<double> accuracy;    ///< else the request's, else the default
+  bool best_effort = false;          ///< or the request's "best_effort": true
+  bool no_diagnostics = false;       ///< or the request's "diagnostics": false
+  std::optional<double> time_limit;  ///< seconds per fit; else the request's, else none
   void apply(FitOptions& f) const {
     if (accuracy) f.accuracy = *accuracy;
+    if (time_limit) f.time_limit = *time_limit;
     f.best_effort = f.best_effort || best_effort;
     f.diagnostics = f.diagnostics && !no_diagnostics;
   }

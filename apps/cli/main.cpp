@@ -25,6 +25,7 @@
 #include <vector>
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -141,6 +142,15 @@ void write_output(const std::string& path, const std::string& text) {
 
 // ---------------------------------------------------------------- fit
 
+/// "global search: 120 of 400, 3.5 s" (steps of unknown number: "newton: step 12, 3.5 s").
+std::string progress_text(const fairspline::FitProgress& p) {
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.1f s", p.seconds);
+  const std::string step = p.total > 0 ? std::to_string(p.done) + " of " + std::to_string(p.total)
+                                       : "step " + std::to_string(p.done);
+  return std::string(p.stage) + ": " + step + ", " + seconds;
+}
+
 struct FitArgs {
   std::string input;
   std::string input_format = "auto";
@@ -154,6 +164,7 @@ struct FitArgs {
   std::string output;
   std::string report = "basic";
   bool summary = false;
+  bool progress = false;  ///< progress lines on stderr also when it is no terminal
   int indent = -1;
   fairspline::cli::FitFlags flags;
   std::optional<double> tolerance;    ///< GeoJSON's flattening tolerance, else its default
@@ -280,7 +291,28 @@ int run_fit(const FitArgs& a) {
   const fairspline::io::SvgOptions svg = fairspline::io::svg_options_from_json(svg_keys);
   fairspline::FitOptions fit_options = parsed.fit_options(level);
   a.flags.apply(fit_options);
-  const fairspline::FitResult result = fairspline::fit(method, in, options, fit_options);
+  const bool terminal = ::isatty(STDERR_FILENO) == 1;
+  bool drawn = false;  // a terminal's progress line waits to be cleared
+  if (a.progress || terminal) {
+    fit_options.progress = [terminal, &drawn](const fairspline::FitProgress& p) {
+      std::cerr << (terminal ? "\r\033[K" : "") << "fairspline: " << progress_text(p)
+                << (terminal ? "" : "\n") << std::flush;
+      drawn = terminal;
+      return true;
+    };
+  }
+  const auto clear_line = [&drawn] {
+    if (drawn) std::cerr << "\r\033[K" << std::flush;
+  };
+  const fairspline::FitResult result = [&] {
+    try {
+      return fairspline::fit(method, in, options, fit_options);
+    } catch (...) {
+      clear_line();
+      throw;
+    }
+  }();
+  clear_line();
 
   // 4. Output.
   std::string text;
@@ -523,6 +555,19 @@ void add_fit_options(CLI::App& cmd, fairspline::cli::FitFlags& flags) {
                "Leave the per-point and per-piece entries out of method_report, keeping its "
                "summary: at a million points they cost several times the fit (also a request's "
                "\"diagnostics\": false)");
+  cmd.add_option("--time-limit", flags.time_limit,
+                 "Stop a fit that runs longer than this many seconds, with error [cancelled] "
+                 "(exit 1; in batch an error record, and the run goes on); a request's "
+                 "\"time_limit\" unless given")
+      ->type_name("SECONDS")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            double v = 0.0;
+            return CLI::detail::lexical_cast(text, v) && v > 0.0 && std::isfinite(v)
+                       ? std::string()
+                       : "must be a positive number of seconds, got " + text;
+          },
+          "SECONDS > 0"));
 }
 
 int run(int argc, char** argv) {
@@ -586,6 +631,9 @@ int run(int argc, char** argv) {
       ->type_name("LIST");
   fit->add_flag("--summary", fa.summary,
                 "Print a summary table (to stdout with -o, else to stderr)");
+  fit->add_flag("--progress", fa.progress,
+                "Report a long fit's progress on stderr every 0.5 s (stage, step, seconds); by "
+                "default only when stderr is a terminal");
   fit->add_option("--indent", fa.indent, "JSON indentation (default: compact, one line)")
       ->check(CLI::Range(-1, 16));
 

@@ -26,6 +26,8 @@ enum class ErrorCode {
   kUnknownOption,    ///< option name not in the method's schema
   kBadOption,        ///< option value of the wrong type or out of range
   kIoError,          ///< a file could not be read or written
+  kCancelled,        ///< the fit ran past FitOptions::time_limit, or its progress callback
+                     ///< stopped it
 };
 
 /// Stable lower-case name of a code, e.g. "repeated_point".

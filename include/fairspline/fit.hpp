@@ -2,8 +2,10 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -171,6 +173,17 @@ void keep_fit_memory(bool keep);
 /// result.method, result.options and result.accuracy, fit() gives the same curve bit for bit.
 FitInput refit_input(const FitResult& result);
 
+/// How far a long fit has come: what FitOptions::progress is called with.
+struct FitProgress {
+  /// What runs: "newton" (a min-energy method's projected Newton), "coordinate search",
+  /// "global search", "data balls", "g2" (Kozak–Krajnc's G2 Newton), "g2 scan" (its search
+  /// for G2 starts), "report".
+  std::string_view stage;
+  std::size_t done = 0;   ///< steps of the stage done (iterations, nodes of a pass, pieces)
+  std::size_t total = 0;  ///< the stage's steps at most; 0 when not known in advance
+  double seconds = 0.0;   ///< since the fit began
+};
+
 /// How a fit runs and what it reports, the same for every method.
 struct FitOptions {
   ReportLevel level = ReportLevel::kBasic;
@@ -186,6 +199,18 @@ struct FitOptions {
   /// A solver that stops short of its tolerance (iteration cap, no admissible step) returns its
   /// curve with that status (FitResult::solver) instead of failing with code not_converged.
   bool best_effort = false;
+
+  /// Seconds a fit may take: past them it stops with Error(cancelled). The iterative methods
+  /// look at the clock between their steps (a Newton iteration, a node of a grid pass, a data
+  /// ball step), so the stop comes within one step; a closed-form method is only stopped
+  /// before its report.
+  std::optional<double> time_limit{};
+  /// Called on the fit's thread between the steps of long work, at most every
+  /// `progress_interval` seconds and first after it (a fit shorter than that never calls it).
+  /// Returning false stops the fit with Error(cancelled); an exception it throws ends the fit
+  /// and reaches the caller.
+  std::function<bool(const FitProgress&)> progress{};
+  double progress_interval = 0.5;
 
   static constexpr double kDefaultAccuracy = 1e-9;
   /// Béziers of non-polynomial curves (the elastic splines): far below what any drawing shows,

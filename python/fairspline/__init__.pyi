@@ -145,6 +145,8 @@ def fit(
     accuracy: Optional[float] = None,
     best_effort: bool = False,
     diagnostics: bool = True,
+    time_limit: Optional[float] = None,
+    progress: Optional[Callable[[str, int, int, float], Any]] = None,
     options: Optional[dict[str, Any]] = None,
     **kwargs: Any,
 ) -> Curve: ...
@@ -161,6 +163,7 @@ def fit_many(
     accuracy: Optional[float] = None,
     best_effort: bool = False,
     diagnostics: bool = True,
+    time_limit: Optional[float] = None,
     errors: Literal["raise", "return"] = "raise",
     progress: Optional[Callable[[int, int], Any]] = None,
     options: Optional[dict[str, Any]] = None,

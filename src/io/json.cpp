@@ -50,7 +50,7 @@ constexpr const char* kInputFields[] = {"points",   "closed",        "tangents",
                                         "states",   "in_tangents",   "out_tangents", "corners_deg",
                                         "radii",    "method",        "options",      "alpha",
                                         "knots",    "start_tangent", "end_tangent",  "lambdas",
-                                        "accuracy", "best_effort",   "diagnostics"};
+                                        "accuracy", "best_effort",   "diagnostics",  "time_limit"};
 
 std::string field_list() {
   std::string s;
@@ -762,6 +762,12 @@ ParsedInput input_from_fields(const json& document, std::vector<Vec2>* points) {
     out.diagnostics = it->get<bool>();
   }
 
+  if (auto it = document.find("time_limit"); it != document.end() && !it->is_null()) {
+    if (!it->is_number())
+      parse_fail("time_limit: expected a number of seconds, got " + preview(*it));
+    out.time_limit = finite_number(*it, "time_limit", std::nullopt);
+  }
+
   for (const char* field : {"start_tangent", "end_tangent"}) {
     auto it = document.find(field);
     if (it == document.end() || it->is_null()) continue;
@@ -1171,7 +1177,7 @@ FitResult fit_result_from_json(const json& document) {
     } catch (const Error& e) {
       throw Error(e.code(), std::string("request.") + e.what(), e.index());
     }
-    if (p.method || !p.options.empty() || p.best_effort || p.diagnostics) {
+    if (p.method || !p.options.empty() || p.best_effort || p.diagnostics || p.time_limit) {
       bad_field("request", "the fit input alone (method and options are the result's)", *request,
                 std::nullopt);
     }

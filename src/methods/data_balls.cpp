@@ -24,6 +24,7 @@
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
 #include "detail/numbers.hpp"
+#include "detail/progress.hpp"
 #include "fairspline/error.hpp"
 #include "methods/min_energy_options.hpp"
 
@@ -938,6 +939,7 @@ class Solver {
     vertex_.assign(pb_.slot.size(), 0);
     Problem before_release;
     for (;; ++o.iterations) {
+      detail::checkpoint("data balls", static_cast<std::size_t>(o.iterations));
       released_.clear();
       // (Not for the elastic spline: across its ridges the polish's line searches over
       // root-found energies took a 320-point U-turn circle from 2.6 to 38 s.)

@@ -13,6 +13,7 @@
 #include "detail/finite.hpp"
 #include "detail/format.hpp"
 #include "detail/input.hpp"
+#include "detail/progress.hpp"
 #include "detail/tridiagonal.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/methods/kozak_krajnc.hpp"
@@ -618,6 +619,7 @@ G2Report solve_g2(const Geometry& g, std::vector<double>& xi, std::span<const ch
   }
   const double h = kG2JacobianStep;
   for (rep.iterations = 0; rep.iterations < max_iterations; ++rep.iterations) {
+    detail::checkpoint("g2", static_cast<std::size_t>(rep.iterations));
     rep.residual = max_abs(r);
     if (rep.residual <= kG2Tolerance) {
       rep.converged = true;
@@ -1402,11 +1404,14 @@ ChainScan chain_scan(const Geometry& g, const std::vector<double>& xi,
     double t1, t2, kb, ka;
   };
   std::vector<std::vector<std::vector<NodeSolution>>> table(m + 1);
+  std::size_t rows = 0, row = 0;
+  for (std::size_t l = 1; l <= m; ++l) rows += X[l - 1].size();
   for (std::size_t l = 1; l <= m; ++l) {
     const std::size_t k = 3 * l - 3, nj = X[l].size();
     const double sl = l > 1 ? scale(l - 1) : 0.0, sr = l < m ? scale(l) : 0.0;
     table[l].resize(X[l - 1].size() * nj);
     for (std::size_t i = 0; i < X[l - 1].size(); ++i) {
+      detail::checkpoint("g2 scan", row++, rows);
       const Vec2 d0 = direction(g, l - 1, X[l - 1][i]);
       for (std::size_t j = 0; j < nj; ++j) {
         const Vec2 d3 = direction(g, l, X[l][j]);

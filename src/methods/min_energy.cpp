@@ -23,6 +23,7 @@
 #include "detail/input.hpp"
 #include "detail/nodes.hpp"
 #include "detail/numbers.hpp"
+#include "detail/progress.hpp"
 #include "fairspline/error.hpp"
 #include "methods/data_balls.hpp"
 #include "methods/min_energy_options.hpp"
@@ -900,6 +901,7 @@ ChainResult optimize(Chain& ch, const MinEnergyOptions& opt, double gscale) {
   // gradient 1.6e-10 for 2000 iterations, each lowering the energy by about one ulp.
   int flat = 0;
   for (res.iterations = 0; res.iterations <= detail::iteration_limit(opt); ++res.iterations) {
+    detail::checkpoint("newton", static_cast<std::size_t>(res.iterations));
     std::size_t n_above = 0;
     const double pg = projected_gradient(ch, ev.g, gscale, res.worst, tol, &n_above, active.data());
     res.pg = pg;
@@ -1118,6 +1120,7 @@ struct ScanGrid {
   /// Second intervals narrower than the step, or at stencils turning by less than this, are
   /// skipped (round a gentle turn the curve would wind).
   double other_turn = 0.0;
+  std::string_view stage = "coordinate search";  ///< as progress reports see it
 };
 
 /// Each free direction to the best of its grid's offsets (the energy of its spans, neighbours
@@ -1129,6 +1132,7 @@ bool scan_directions(Chain& ch, const BasicCurveMethod& m, const ScanGrid& grid)
   for (bool changed = true; changed;) {
     changed = false;
     for (std::size_t t = 0; t < k; ++t) {
+      detail::checkpoint(grid.stage, t, k);
       if (ch.fixed[t]) continue;
       // |b − a| is the stencil's turn |ψ| in its first interval and 2π − |ψ| in its second;
       // the other interval is 2Ω − 2π + |b − a| wide.
@@ -1171,6 +1175,7 @@ void coordinate_search(Chain& ch, const BasicCurveMethod& m, int levels) {
     for (bool changed = true; changed;) {
       changed = false;
       for (std::size_t t = 0; t < k; ++t) {
+        detail::checkpoint("coordinate search", t, k);
         if (ch.fixed[t]) continue;
         const double old = ch.x[t];
         double best = old, best_e = local_energy(ch, m, t, old);
@@ -1418,6 +1423,7 @@ class GridSearch {
     f_[0].assign(c_[order(0)].size(), ch_.closed ? kInf : 0.0);
     if (ch_.closed) f_[0][cut] = 0.0;
     for (std::size_t q = 0; q + 1 < k_; ++q) {
+      detail::checkpoint("global search", q, k_);
       const std::size_t j = order(q + 1);
       f_[q + 1].assign(c_[j].size(), kInf);
       fb_[q + 1].assign(c_[j].size(), 0);
@@ -1448,6 +1454,7 @@ class GridSearch {
       }
     }
     for (std::size_t q = k_ - 1; q-- > 0;) {
+      detail::checkpoint("global search", k_ - 1 - q, k_);
       const std::size_t i = order(q);
       b_[q].assign(c_[i].size(), kInf);
       bb_[q].assign(c_[i].size(), 0);
@@ -1767,6 +1774,7 @@ ChainResult optimize_coupled(Chain& ch, const MinEnergyOptions& opt, double gsca
     return res;
   }
   for (res.iterations = 0; res.iterations <= detail::iteration_limit(opt); ++res.iterations) {
+    detail::checkpoint("newton", static_cast<std::size_t>(res.iterations));
     const Groups g = make_groups(ch, link);
     const std::size_t G = g.first.size();
     // Reduced gradient, Hessian; a group with a bound or fixed node does not move.
@@ -2372,10 +2380,13 @@ ChainResult optimize_elastic(Chain& ch, const MinEnergyOptions& opt, double gsca
   if (opt.search == MinEnergySearch::kNewton || !full) {
     ChainResult r = elastic_descent(ch, opt, gscale, pb);
     if (full) {
-      try_other_arcs(
-          ch, opt, gscale,
-          {.step = kOtherArcStep, .box = false, .other_arc = omega, .other_turn = kOtherArcTurn},
-          r);
+      try_other_arcs(ch, opt, gscale,
+                     {.step = kOtherArcStep,
+                      .box = false,
+                      .other_arc = omega,
+                      .other_turn = kOtherArcTurn,
+                      .stage = "newton"},
+                     r);
     }
     return r;
   }

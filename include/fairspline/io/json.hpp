@@ -23,13 +23,15 @@ struct ParsedInput {
   std::optional<double> accuracy;                     ///< "accuracy" (FitOptions::accuracy)
   std::optional<bool> best_effort;                    ///< "best_effort" (FitOptions::best_effort)
   std::optional<bool> diagnostics;                    ///< "diagnostics" (FitOptions::diagnostics)
-  /// FitOptions at `level` with the request's accuracy, best_effort and diagnostics where it
-  /// gives them.
+  std::optional<double> time_limit;                   ///< "time_limit" (FitOptions::time_limit)
+  /// FitOptions at `level` with the request's accuracy, best_effort, diagnostics and time
+  /// limit where it gives them.
   FitOptions fit_options(ReportLevel level) const {
     return {.level = level,
             .accuracy = accuracy,
             .diagnostics = diagnostics.value_or(true),
-            .best_effort = best_effort.value_or(false)};
+            .best_effort = best_effort.value_or(false),
+            .time_limit = time_limit};
   }
 };
 
@@ -37,7 +39,8 @@ struct ParsedInput {
 ///   {"points": [[x,y],...], "closed": bool, "tangents": [[x,y] or null,...],
 ///    "kinds": ["smooth"|"clamped"|"corner",...], "method": str, "options": {...},
 ///    "alpha": num, "knots": [...], "start_tangent": [x,y], "end_tangent": [x,y],
-///    "lambdas": [...], "accuracy": num, "best_effort": bool, "diagnostics": bool}
+///    "lambdas": [...], "accuracy": num, "best_effort": bool, "diagnostics": bool,
+///    "time_limit": seconds}
 /// Only "points" is required; a bare array of points is accepted as {"points": [...]}, and a
 /// fit result (write_json) as the request that fits its curve again (refit_input, its method,
 /// options and accuracy).
