@@ -49,7 +49,8 @@ constexpr int kListenBacklog = 1024;
 /// The Retry-After of a "busy" answer, in seconds.
 constexpr int kBusyRetryAfterSeconds = 1;
 
-ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& options) {
+ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& options,
+                               const std::atomic<bool>* stop) {
   try {
     // The same parser as `fairspline fit` (line/column of a syntax error, 1e999 named, typos
     // in field names refused).
@@ -62,8 +63,12 @@ ApiResponse handle_fit_untimed(std::string_view body, const ServerOptions& optio
                     " (this server accepts at most " + std::to_string(options.max_points) + ")"));
     }
     const std::string method = parsed.method ? *parsed.method : std::string(default_method_name());
-    const FitResult result =
-        fit(method, parsed.input, parsed.options, parsed.fit_options(ReportLevel::kFull));
+    FitOptions fit_options = parsed.fit_options(ReportLevel::kFull);
+    if (stop) {
+      fit_options.progress_interval = 0.01;
+      fit_options.progress = [stop](const FitProgress&) { return !stop->load(); };
+    }
+    const FitResult result = fit(method, parsed.input, parsed.options, fit_options);
     return {200, io::write_json(result)};
   } catch (const Error& e) {
     return error_response(400, e);
@@ -81,9 +86,10 @@ ApiResponse handle_methods() {
       nlohmann::json{{"default", default_method_name()}, {"methods", registry_schema()}}.dump()};
 }
 
-ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {
+ApiResponse handle_fit(std::string_view body, const ServerOptions& options,
+                       const std::atomic<bool>* stop) {
   const auto start = std::chrono::steady_clock::now();
-  ApiResponse response = handle_fit_untimed(body, options);
+  ApiResponse response = handle_fit_untimed(body, options, stop);
   response.elapsed_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return response;
@@ -93,9 +99,10 @@ ApiResponse handle_fit(std::string_view body, const ServerOptions& options) {
 //
 // A slot is a worker thread: at most max_concurrent_fits of them, started when first needed and
 // kept until the runner dies (no thread per request; each thread keeps its malloc arena, which
-// keeps the server's memory flat under load). Fits cannot be cancelled (the library has no hook
-// for it), so a timed-out fit runs to its end on its worker, "abandoned"; that its slot stays
-// taken is what keeps a flood of slow fits from piling up work and memory. A request waits for
+// keeps the server's memory flat under load). A timed-out fit, "abandoned", is stopped at its
+// next step (its progress callback reads `stop`; a closed-form fit or a report runs to its end)
+// and keeps its slot until then: that is what keeps a flood of slow fits from piling up work
+// and memory. A request waits for
 // a free slot, since a slot held by a fit whose request is still waiting frees within the time
 // limit; but when every slot is held by an abandoned fit, which has already run past the limit,
 // it is answered "busy" at once. One mutex guards the counts, the queue and the jobs; `changed`
@@ -107,6 +114,7 @@ struct FitRunner::Impl {
     ApiResponse response;
     bool done = false;       // guarded by mutex
     bool abandoned = false;  // guarded by mutex: the request timed out, nobody reads response
+    std::atomic<bool> stop{false};  // set with abandoned (when options.stop_abandoned_fits)
   };
 
   ServerOptions options;
@@ -128,7 +136,8 @@ struct FitRunner::Impl {
       const std::shared_ptr<Job> job = std::move(queue.front());
       queue.pop_front();
       lock.unlock();
-      ApiResponse r = handle_fit(job->body, options);
+      ApiResponse r =
+          handle_fit(job->body, options, options.stop_abandoned_fits ? &job->stop : nullptr);
       std::string().swap(job->body);  // only this thread reads it
       lock.lock();
       if (job->abandoned) {
@@ -198,8 +207,8 @@ ApiResponse FitRunner::fit(std::string_view body) {
     if (!got_slot || impl.running >= impl.slots) {
       const std::string n = std::to_string(impl.slots);
       return busy(got_slot ? "every fit slot (" + n +
-                                 ") is taken by a fit that went past the time limit and is "
-                                 "finishing in the background"
+                                 ") is taken by a fit that went past the time limit and has "
+                                 "not stopped yet"
                            : "no fit slot (of " + n + ") came free within the time limit of " +
                                  std::to_string(limit_ms) + " ms");
     }
@@ -224,18 +233,18 @@ ApiResponse FitRunner::fit(std::string_view body) {
     impl.changed.wait_until(lock, deadline, [&job] { return job->done; });
     if (job->done) return std::move(job->response);  // elapsed_ms: the fit's own time
     job->abandoned = true;
+    job->stop = true;
     ++impl.abandoned;
     impl.changed.notify_all();  // requests waiting for a slot may now be answered "busy"
     lock.unlock();
     ApiResponse r{
         503,
-        http_error_body("timeout",
-                        "the fit took longer than this server's time limit of " +
-                            std::to_string(limit_ms) +
-                            " ms (it is finishing in the background, and its answer will be "
-                            "dropped): fit fewer points or a faster method, start the server with "
-                            "a larger --fit-time-limit-ms, or fit with the command line "
-                            "(fairspline fit), which has no time limit")};
+        http_error_body("timeout", "the fit took longer than this server's time limit of " +
+                                       std::to_string(limit_ms) +
+                                       " ms (it is stopped, and its answer dropped): fit fewer "
+                                       "points or a faster method, start the server with "
+                                       "a larger --fit-time-limit-ms, or fit with the command line "
+                                       "(fairspline fit), which has no time limit")};
     r.elapsed_ms = elapsed_ms();
     return r;
   } catch (const std::system_error&) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -27,8 +28,12 @@ struct ServerOptions {
   std::size_t max_body_bytes = 8u << 20;  ///< larger requests get HTTP 413 (code "too_large")
   std::size_t max_points = 200000;        ///< larger fits get HTTP 400
   /// A fit not answered within this many milliseconds of its arrival gets HTTP 503 (code
-  /// "timeout"); its computation goes on in the background, holding its slot. 0: no limit.
+  /// "timeout"); its computation is stopped at its next step (FitOptions::progress), holding
+  /// its slot until then (a closed-form method's fit or a report runs to its end). 0: no limit.
   std::int64_t fit_time_limit_ms = 10000;
+  /// false: a timed-out fit runs to its end in the background instead (the server before fits
+  /// could be stopped; the tests of the "busy" answer use it).
+  bool stop_abandoned_fits = true;
   /// Fits computed at once, each on a thread of its own, counting those whose request timed
   /// out. A request waits for a free slot within its time limit; it gets HTTP 503 (code
   /// "busy") with Retry-After when none comes free, and at once when every slot is held by a
@@ -54,13 +59,17 @@ ApiResponse handle_methods();
 /// kinds, method, options, ...); the answer is the output JSON of `fairspline fit` with the full
 /// report. Bad requests (malformed JSON, bad fields, NaN, too many points, any
 /// fairspline::Error) → 400 with {"error": {"code", "message", "index"}}; never throws.
-ApiResponse handle_fit(std::string_view body, const ServerOptions& options);
+/// `stop`, when given and set, stops the fit at its next step (its answer is then the
+/// "cancelled" error).
+ApiResponse handle_fit(std::string_view body, const ServerOptions& options,
+                       const std::atomic<bool>* stop = nullptr);
 
 /// POST /api/fit under the server's time and concurrency limits (Server owns one; socket-free
 /// for tests). Each fit runs handle_fit on a thread of its own, with its own copy of the body,
 /// at most max_concurrent_fits at once; the caller waits at most fit_time_limit_ms from its
 /// call, for a slot and for the fit. Past the limit: 503 {"error": {"code": "timeout", ...}}
-/// while the fit finishes in the background and keeps its slot. No slot within the limit, or
+/// while the fit is stopped at its next step (or, with stop_abandoned_fits false, finishes in
+/// the background), keeping its slot until then. No slot within the limit, or
 /// every slot held by such a timed-out fit: 503 "busy" with retry_after_s = 1 (the latter at
 /// once). Thread-safe; never throws.
 class FitRunner {

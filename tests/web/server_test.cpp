@@ -201,9 +201,43 @@ TEST(FitRunner, AnswersLikeHandleFitWithinTheLimits) {
   EXPECT_EQ(unlimited.fit(R"({"points": [[0,0],[1,1],[2,0]]})").status, 200);
 }
 
+/// A request whose fit takes about ten seconds (the elastic spline's grid search over 1000
+/// sharp points), in steps of a few milliseconds.
+std::string very_slow_request() {
+  json points = json::array();
+  for (const Point& p : testing::random_walk(1000, 5, 150)) points.push_back({p.x, p.y});
+  return json{{"points", points}, {"method", "elastic"}, {"options", {{"search", "global"}}}}
+      .dump();
+}
+
+TEST(FitRunner, ATimedOutFitIsStoppedAndFreesItsSlot) {
+  ServerOptions opt;
+  opt.fit_time_limit_ms = 1;
+  FitRunner runner(opt);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ApiResponse r = runner.fit(very_slow_request());
+  ASSERT_EQ(r.status, 503) << r.body.substr(0, 300);
+  EXPECT_EQ(error_of(r).at("code"), "timeout");
+  wait_until_idle(runner);
+  EXPECT_EQ(runner.running(), 0u);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(ms, 3000.0);  // stopped within a step, not after the fit's ten seconds
+  // The request's own time limit stops it the same way, as the library's error.
+  opt.fit_time_limit_ms = 0;
+  FitRunner unlimited(opt);
+  json body = json::parse(very_slow_request());
+  body["time_limit"] = 0.05;
+  const ApiResponse own = unlimited.fit(body.dump());
+  ASSERT_EQ(own.status, 400) << own.body.substr(0, 300);
+  EXPECT_EQ(error_of(own).at("code"), "cancelled");
+  EXPECT_LT(own.elapsed_ms, 3000.0);
+}
+
 TEST(FitRunner, ASlowFitGets503TimeoutAndFinishesInTheBackground) {
   ServerOptions opt;
   opt.fit_time_limit_ms = 1;
+  opt.stop_abandoned_fits = false;
   FitRunner runner(opt);
   const std::string body = slow_request();
   const auto t0 = std::chrono::steady_clock::now();
@@ -231,6 +265,7 @@ TEST(FitRunner, AllSlotsTakenGives503BusyWithRetryAfter) {
   ServerOptions opt;
   opt.fit_time_limit_ms = 1;  // a request waits at most 1 ms for a slot, too
   opt.max_concurrent_fits = 1;
+  opt.stop_abandoned_fits = false;  // so that the slot stays taken
   FitRunner runner(opt);
   ASSERT_EQ(runner.fit(slow_request()).status, 503);  // times out; its fit keeps the slot
   const ApiResponse r = runner.fit(R"({"points": [[0,0],[1,1],[2,0]]})");
@@ -351,6 +386,7 @@ TEST(WebApi, HttpTimeoutAndBusyAre503WithRetryAfter) {
   ServerOptions opt;
   opt.fit_time_limit_ms = 1;
   opt.max_concurrent_fits = 1;
+  opt.stop_abandoned_fits = false;
   LiveServer live(opt);
   ASSERT_GT(live.port(), 0);
   httplib::Client& client = live.client();
