@@ -3,11 +3,14 @@
 #include "fairspline/methods/jaklic_zagar.hpp"
 
 #include <algorithm>
+#include <barrier>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -554,23 +557,24 @@ inline bool optimal_pair(const ChordBlock& cb, std::size_t k, Vec2& d0, Vec2& d1
 }
 #endif
 
-// Pass 1: the unit tangent direction at every point, in order, into `dirs`.
-void directions(const Problem& pb, std::vector<Vec2>& dirs) {
+// Pass 1: the unit tangent directions at points first..last-1 (0 <= first < last <= n), in
+// order, each handed to emit(d).
+template <class Emit>
+void directions(const Problem& pb, std::size_t first, std::size_t last, Emit&& emit) {
   const auto& P = pb.points;
   const auto& t = pb.knots;
   const std::size_t n = P.size();
   const bool fast = pb.specs.empty() && pb.global.rule == Rule::kOptimal;
-  dirs.clear();
-  detail::reserve_to_fill(dirs, n);
   auto chord = [&](std::size_t j) {
     return make_chord(P[j], P[j + 1 == n ? 0 : j + 1], t[j + 1] - t[j]);
   };
   // Nodes first..last-1 between chords j-1 and j; `prev` holds chord first-1 on entry.
   auto interior = [&](std::size_t first, std::size_t last, Chord& prev) {
+    if (first >= last) return;
     if (!fast) {
       for (std::size_t i = first; i < last; ++i) {
         const Chord next = chord(i);
-        dirs.push_back(node_direction(pb, i, prev, next));
+        emit(node_direction(pb, i, prev, next));
         prev = next;
       }
       return;
@@ -584,7 +588,7 @@ void directions(const Problem& pb, std::vector<Vec2>& dirs) {
       if (!optimal_node(cb.get(k), cb.get(k + 1), d)) [[unlikely]] {
         throw_reversal(input_index(pb, i));
       }
-      dirs.push_back(d);
+      emit(d);
     };
     for (std::size_t b = first; b < last; b += kBlock) {
       const std::size_t m = std::min(kBlock, last - b);
@@ -604,8 +608,8 @@ void directions(const Problem& pb, std::vector<Vec2>& dirs) {
       for (; k + 2 <= m; k += 2) {
         Vec2 d0, d1;
         if (optimal_pair(cb, k, d0, d1)) [[likely]] {
-          dirs.push_back(d0);
-          dirs.push_back(d1);
+          emit(d0);
+          emit(d1);
         } else {
           scalar_node(k, b + k);
           scalar_node(k + 1, b + k + 1);
@@ -617,53 +621,98 @@ void directions(const Problem& pb, std::vector<Vec2>& dirs) {
     }
   };
   if (!pb.closed) {
-    Chord prev = chord(0);
-    dirs.push_back(end_direction(pb, 0, prev, true));
-    interior(1, n - 1, prev);
-    dirs.push_back(end_direction(pb, n - 1, prev, false));
+    Chord prev = chord(first == 0 ? 0 : first - 1);
+    if (first == 0) emit(end_direction(pb, 0, prev, true));
+    interior(std::max<std::size_t>(first, 1), std::min(last, n - 1), prev);
+    if (last == n) emit(end_direction(pb, n - 1, chord(n - 2), false));
   } else {
     // Closed: every point is interior; chord n-1 closes the curve.
-    Chord prev = chord(n - 1);
-    interior(0, n, prev);
+    Chord prev = chord(first == 0 ? n - 1 : first - 1);
+    interior(first, last, prev);
   }
 }
 
-// Pass 2: the Bézier pieces of Theorem 4's proof from the points and directions (a separate
-// pass measured faster than emitting them per block). Returns non-zero if a control point or a
-// direction is not finite (checked while in registers; points and knots were checked by
+// Pass 2: the Bézier piece of span j of Theorem 4's proof from the points and directions (a
+// separate pass measured faster than emitting them per block). Non-finite control points or
+// directions set bits of `bad` (checked while in registers; points and knots were checked by
 // prepare_input).
-std::uint64_t segments(const Problem& pb, const std::vector<Vec2>& dirs,
-                       std::vector<Segment>& segs) {
+FAIRSPLINE_JZ_INLINE Segment piece(const Problem& pb, const Vec2* dirs, std::size_t j,
+                                   std::uint64_t& bad) {
   const auto& P = pb.points;
-  const auto& t = pb.knots;
   const std::size_t n = P.size();
-  const std::size_t spans = pb.closed ? n : n - 1;
-  // Every direction is some piece's d0, except the last one of an open curve.
-  std::uint64_t bad = pb.closed ? 0 : detail::non_finite_bits(dirs[n - 1]);
-  auto piece = [&](std::size_t j) {
-    const std::size_t k = j + 1 == n ? 0 : j + 1;
-    const Vec2 delta = P[k] - P[j];
-    const Vec2 d0 = dirs[j], d1 = dirs[k];
-    const Point p1 = P[j] + (dot(d0, delta) * (1.0 / 3.0)) * d0;
-    const Point p2 = P[k] - (dot(d1, delta) * (1.0 / 3.0)) * d1;
-    bad |= detail::non_finite_bits(d0) | detail::non_finite_bits(p1) | detail::non_finite_bits(p2);
-    return Segment{CubicBezier{{P[j], p1, p2, P[k]}}, t[j], t[j + 1], j};
-  };
-  if (segs.size() == spans) {
-    // A reused result of the same size: overwrite in place (no size bookkeeping per piece).
-    Segment* out = segs.data();
-    for (std::size_t j = 0; j < spans; ++j) out[j] = piece(j);
-    return bad;
-  }
-  segs.clear();
-  detail::reserve_to_fill(segs, spans);
-  for (std::size_t j = 0; j < spans; ++j) segs.push_back(piece(j));
+  const std::size_t k = j + 1 == n ? 0 : j + 1;
+  const Vec2 delta = P[k] - P[j];
+  const Vec2 d0 = dirs[j], d1 = dirs[k];
+  const Point p1 = P[j] + (dot(d0, delta) * (1.0 / 3.0)) * d0;
+  const Point p2 = P[k] - (dot(d1, delta) * (1.0 / 3.0)) * d1;
+  bad |= detail::non_finite_bits(d0) | detail::non_finite_bits(p1) | detail::non_finite_bits(p2);
+  return Segment{CubicBezier{{P[j], p1, p2, P[k]}}, pb.knots[j], pb.knots[j + 1], j};
+}
+
+// Pieces first..last-1 into out[first..last-1].
+std::uint64_t pieces_into(const Problem& pb, const Vec2* dirs, std::size_t first, std::size_t last,
+                          Segment* out) {
+  std::uint64_t bad = 0;
+  for (std::size_t j = first; j < last; ++j) out[j] = piece(pb, dirs, j, bad);
   return bad;
 }
 
+// Curves at least this long are built on two threads when the result's arrays already have
+// their sizes (a reused result: fit_into in a loop). Fresh arrays would have to be zeroed first,
+// which costs about what the second core saves. Below it a thread's start is not worth it.
+constexpr std::size_t kTwoThreadPoints = std::size_t{1} << 17;
+
+// Both passes on two threads, each on half the points: the same operations per point as on
+// one, so the same bits. A reversal in both halves is reported at the first, as on one thread.
+std::uint64_t build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs,
+                                   std::vector<Segment>& segs) {
+  const std::size_t n = pb.points.size(), spans = segs.size(), mid = n / 2;
+  std::exception_ptr failed[2];
+  std::uint64_t bad[2] = {0, 0};
+  std::barrier directions_done(2);
+  auto half = [&](int h) {
+    const std::size_t first = h == 0 ? 0 : mid, last = h == 0 ? mid : n;
+    try {
+      Vec2* out = dirs.data() + first;
+      directions(pb, first, last, [&out](Vec2 d) { *out++ = d; });
+    } catch (...) {
+      failed[h] = std::current_exception();
+    }
+    directions_done.arrive_and_wait();  // each half's pieces read a direction of the other's
+    if (failed[0] || failed[1]) return;
+    bad[h] = pieces_into(pb, dirs.data(), h == 0 ? 0 : mid, h == 0 ? mid : spans, segs.data());
+  };
+  std::thread helper(half, 1);
+  half(0);
+  helper.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  // The last direction of an open curve is no piece's d0.
+  return bad[0] | bad[1] | (pb.closed ? 0 : detail::non_finite_bits(dirs[n - 1]));
+}
+
 void build(const Problem& pb, FitResult& result) {
-  directions(pb, result.tangents);
-  if (segments(pb, result.tangents, result.spline.segments)) [[unlikely]] {
+  std::vector<Vec2>& dirs = result.tangents;
+  std::vector<Segment>& segs = result.spline.segments;
+  const std::size_t n = pb.points.size(), spans = pb.closed ? n : n - 1;
+  std::uint64_t bad = 0;
+  if (n >= kTwoThreadPoints && dirs.size() == n && segs.size() == spans &&
+      std::thread::hardware_concurrency() > 1) {
+    bad = build_on_two_threads(pb, dirs, segs);
+  } else {
+    dirs.clear();
+    detail::reserve_to_fill(dirs, n);
+    directions(pb, 0, n, [&dirs](Vec2 d) { dirs.push_back(d); });
+    bad = pb.closed ? 0 : detail::non_finite_bits(dirs[n - 1]);
+    if (segs.size() == spans) {
+      bad |= pieces_into(pb, dirs.data(), 0, spans, segs.data());  // in place: no size updates
+    } else {
+      segs.clear();
+      detail::reserve_to_fill(segs, spans);
+      for (std::size_t j = 0; j < spans; ++j) segs.push_back(piece(pb, dirs.data(), j, bad));
+    }
+  }
+  if (bad) [[unlikely]] {
     detail::check_finite_output(result, "jaklic-zagar");  // throws, naming the piece
   }
 }

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
@@ -529,6 +530,59 @@ TEST(JaklicZagar, FastPathIsBitwiseTheNodeFormula) {
       ASSERT_EQ(r.tangents[i], node.direction) << "point " << i << (closed ? " closed" : "");
     }
   }
+}
+
+TEST(JaklicZagar, TwoThreadsGiveTheBitsOfOne) {
+  // A long curve refitted into a result of its size is built on two threads (each on half the
+  // points); a fresh result on one. Open and closed, the fast path and the general one (fixed
+  // lambda; straight points), and an odd n, whose halves differ in size.
+  const std::size_t n = (std::size_t{1} << 17) + 3;
+  for (bool closed : {false, true}) {
+    for (const nlohmann::json& options :
+         {nlohmann::json::object(), nlohmann::json{{"lambda", 0.3}}}) {
+      SCOPED_TRACE(std::string(closed ? "closed " : "open ") + options.dump());
+      auto pts = random_walk(n, 23, closed ? 100 : 170);
+      // Exactly straight points about the middle (integer coordinates).
+      const Point base{std::round(pts[n / 2 - 4].x), std::round(pts[n / 2 - 4].y)};
+      for (std::size_t i = n / 2 - 4; i < n / 2 + 3; ++i) {
+        pts[i] = base + Vec2{static_cast<double>(i - (n / 2 - 4)), 0.0};
+      }
+      const FitInput in = input_of(pts, 0.5, closed);
+      const FitResult one = fit("jaklic-zagar", in, options, ReportLevel::kNone);
+      FitResult two = one;
+      for (Segment& s : two.spline.segments) s.bezier.p[1] = {0, 0};
+      for (Vec2& d : two.tangents) d = {0, 0};
+      fit_into("jaklic-zagar", in, options, ReportLevel::kNone, two);
+      ASSERT_EQ(two.tangents.size(), one.tangents.size());
+      EXPECT_EQ(0, std::memcmp(two.tangents.data(), one.tangents.data(),
+                               one.tangents.size() * sizeof(Vec2)));
+      ASSERT_EQ(two.spline.segments.size(), one.spline.segments.size());
+      for (std::size_t j = 0; j < one.spline.segments.size(); ++j) {
+        ASSERT_EQ(two.spline.segments[j].bezier.p, one.spline.segments[j].bezier.p) << j;
+        ASSERT_EQ(two.spline.segments[j].t0, one.spline.segments[j].t0) << j;
+        ASSERT_EQ(two.spline.segments[j].span, j);
+      }
+    }
+  }
+  // Reversals in both halves: the first one is named, as on one thread; in the second half
+  // alone, that one.
+  auto pts = random_walk(n, 29, 120);
+  auto reverse_at = [&](std::size_t i) {  // exactly: integer and half coordinates
+    pts[i - 1] = {std::round(pts[i - 1].x), std::round(pts[i - 1].y)};
+    pts[i] = pts[i - 1] + Vec2{1.0, 0.0};
+    pts[i + 1] = pts[i - 1] + Vec2{0.5, 0.0};
+  };
+  reverse_at(n - 1000);
+  FitResult reuse = fit("jaklic-zagar", input_of(random_walk(n, 31, 120)), {}, ReportLevel::kNone);
+  const Error second = testing::expect_error(ErrorCode::kReversal, [&] {
+    fit_into("jaklic-zagar", input_of(pts), {}, ReportLevel::kNone, reuse);
+  });
+  EXPECT_EQ(second.index(), n - 1000);
+  reverse_at(1000);
+  const Error first = testing::expect_error(ErrorCode::kReversal, [&] {
+    fit_into("jaklic-zagar", input_of(pts), {}, ReportLevel::kNone, reuse);
+  });
+  EXPECT_EQ(first.index(), 1000u);
 }
 
 TEST(JaklicZagar, EndsFollowTheEndChordsUnlessGiven) {
