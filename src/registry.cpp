@@ -11,6 +11,7 @@
 #include "detail/nodes.hpp"
 #include "detail/normalize.hpp"
 #include "detail/progress.hpp"
+#include "detail/two_threads.hpp"
 #include "fairspline/diagnostics.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/io/json.hpp"
@@ -386,9 +387,20 @@ void remember_points(const FitInput& in, FitResult& out) {
   // Bitwise, so that -0.0 and NaN payloads survive a refit; one memcmp of the whole array
   // (Point is two doubles, no padding).
   static_assert(sizeof(Point) == 2 * sizeof(double));
-  const bool same = in.points.size() == out.points.size() &&
-                    (in.points.empty() || std::memcmp(in.points.data(), out.points.data(),
-                                                      in.points.size() * sizeof(Point)) == 0);
+  const std::size_t n = in.points.size();
+  bool same = n == out.points.size();
+  if (same && detail::split_in_two(n)) {
+    const std::size_t mid = n / 2;
+    bool equal[2] = {false, false};
+    detail::on_two_threads([&](int h) {
+      const std::size_t first = h == 0 ? 0 : mid, count = h == 0 ? mid : n - mid;
+      equal[h] = std::memcmp(in.points.data() + first, out.points.data() + first,
+                             count * sizeof(Point)) == 0;
+    });
+    same = equal[0] && equal[1];
+  } else if (same && n > 0) {
+    same = std::memcmp(in.points.data(), out.points.data(), n * sizeof(Point)) == 0;
+  }
   if (!same) out.input.points.assign(in.points.begin(), in.points.end());
 }
 

@@ -15,6 +15,7 @@
 #include "detail/format.hpp"
 #include "detail/huge_pages.hpp"
 #include "detail/knots.hpp"
+#include "detail/two_threads.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
 
@@ -94,25 +95,34 @@ inline bool span_length_pair(Point p0, Point p1, Point p2, double& h0, double& h
 }
 #endif
 
-// One pass over the points: finiteness, a cheap repeated-point pre-test, the copy into
-// out.points and (with_knots) the alpha knots. Returns false when a slow check must decide.
-template <AlphaKind K>
-bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double alpha,
-                bool with_knots, FitResult& out) {
-  const std::size_t spans = closed ? n : n - 1;
-  resize_huge(out.points, n);
-  if (with_knots) resize_huge(out.knots, spans + 1);
-  Point* dst = out.points.data();
-  double* knots = with_knots ? out.knots.data() : nullptr;
+// Points first..last-1 of one pass over the points: finiteness, a cheap repeated-point
+// pre-test, the copy into `dst` and (knots given) the alpha knot intervals of their spans.
+// Running: knots[i + 1] = t += h_i; else the interval alone, knots[i + 1] = h_i.
+struct PassState {
   std::uint64_t bad = 0;
   bool suspect = false;
   double t = 0.0;
-  if (knots) knots[0] = 0.0;
-  std::size_t i = 0;
+};
+
+template <AlphaKind K, bool Running>
+void fused_range(std::span<const Point> pts, std::size_t n, std::size_t spans, double alpha,
+                 std::size_t first, std::size_t last, Point* dst, double* knots, PassState& st) {
+  std::uint64_t bad = 0;
+  bool suspect = false;
+  double t = st.t;
+  auto interval = [&](std::size_t i, double h) {
+    if constexpr (Running) {
+      t += h;
+      knots[i + 1] = t;
+    } else {
+      knots[i + 1] = h;
+    }
+  };
+  std::size_t i = first;
 #if defined(__SSE2__)
   if constexpr (K == AlphaKind::kCentripetal || K == AlphaKind::kChordal) {
     // Two spans per step while neither wraps around; the scalar loop below does the rest.
-    for (; knots && i + 2 < n && i + 1 < spans; i += 2) {
+    for (; knots && i + 2 <= last && i + 2 < n && i + 1 < spans; i += 2) {
       const Point p0 = pts[i], p1 = pts[i + 1], p2 = pts[i + 2];
       bad |= non_finite_bits(p0) | non_finite_bits(p1);
       dst[i] = p0;
@@ -125,14 +135,12 @@ bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double a
         h1 = span_length<K>(p2 - p1, alpha);
       }
       suspect |= !(h0 > 0.0) | !(h1 > 0.0);
-      t += h0;
-      knots[i + 1] = t;
-      t += h1;
-      knots[i + 2] = t;
+      interval(i, h0);
+      interval(i + 1, h1);
     }
   }
 #endif
-  for (; i < n; ++i) {
+  for (; i < last; ++i) {
     const Point p = pts[i];
     bad |= non_finite_bits(p);
     dst[i] = p;
@@ -142,13 +150,51 @@ bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double a
       if (knots) {
         const double h = span_length<K>(q - p, alpha);
         suspect |= !(h > 0.0);
-        t += h;
-        knots[i + 1] = t;
+        interval(i, h);
       }
     }
   }
-  if (knots) bad |= non_finite_bits(t);
-  return bad == 0 && !suspect;
+  st.bad |= bad;
+  st.suspect |= suspect;
+  st.t = t;
+}
+
+// One pass over the points: finiteness, a cheap repeated-point pre-test, the copy into
+// out.points and (with_knots) the alpha knots. Returns false when a slow check must decide.
+// Long inputs: the second half on a helper thread, its knot intervals summed on after the
+// first half's (the same additions in the same order, so the same knots).
+template <AlphaKind K>
+bool fused_pass(std::span<const Point> pts, std::size_t n, bool closed, double alpha,
+                bool with_knots, FitResult& out) {
+  const std::size_t spans = closed ? n : n - 1;
+  resize_huge(out.points, n);
+  if (with_knots) resize_huge(out.knots, spans + 1);
+  Point* dst = out.points.data();
+  double* knots = with_knots ? out.knots.data() : nullptr;
+  if (knots) knots[0] = 0.0;
+  PassState st;
+  if (!split_in_two(n)) {
+    fused_range<K, true>(pts, n, spans, alpha, 0, n, dst, knots, st);
+  } else {
+    const std::size_t mid = (n / 2) & ~std::size_t{1};  // even: the pairs are those of one pass
+    PassState second;
+    on_two_threads([&](int h) {
+      if (h == 0) {
+        fused_range<K, true>(pts, n, spans, alpha, 0, mid, dst, knots, st);
+      } else {
+        fused_range<K, false>(pts, n, spans, alpha, mid, n, dst, knots, second);
+      }
+    });
+    st.bad |= second.bad;
+    st.suspect |= second.suspect;
+    if (knots) {
+      double t = st.t;
+      for (std::size_t i = mid; i < spans; ++i) knots[i + 1] = t += knots[i + 1];
+      st.t = t;
+    }
+  }
+  if (knots) st.bad |= non_finite_bits(st.t);
+  return st.bad == 0 && !st.suspect;
 }
 
 }  // namespace

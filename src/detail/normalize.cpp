@@ -1,8 +1,10 @@
 #include "detail/normalize.hpp"
+#include "detail/two_threads.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,16 +66,29 @@ std::vector<std::string_view> split_path(std::string_view path) {
 
 std::optional<Normalization> normalization_for(const FitInput& input) {
   // Every fit reads all points here: branch-free, with two running maxima so that the loop is
-  // not one serial chain of max operations (NaN never wins a max; it is caught by `bad`).
-  double big_x = 0.0, big_y = 0.0;
-  std::uint64_t bad = 0;
-  for (const Point& p : input.points) {
-    bad |= non_finite_bits(p);
-    big_x = std::max(big_x, std::abs(p.x));
-    big_y = std::max(big_y, std::abs(p.y));
+  // not one serial chain of max operations (NaN never wins a max; it is caught by `bad`). A
+  // maximum does not depend on the order, so long inputs are scanned in two halves at once.
+  struct Scan {
+    double big_x = 0.0, big_y = 0.0;
+    std::uint64_t bad = 0;
+  };
+  auto scan = [](std::span<const Point> pts, Scan& s) {
+    for (const Point& p : pts) {
+      s.bad |= non_finite_bits(p);
+      s.big_x = std::max(s.big_x, std::abs(p.x));
+      s.big_y = std::max(s.big_y, std::abs(p.y));
+    }
+  };
+  const std::span<const Point> pts = input.points;
+  Scan halves[2];
+  if (split_in_two(pts.size())) {
+    const std::size_t mid = pts.size() / 2;
+    on_two_threads([&](int h) { scan(h == 0 ? pts.first(mid) : pts.subspan(mid), halves[h]); });
+  } else {
+    scan(pts, halves[0]);
   }
-  if (bad) return std::nullopt;
-  const double big = std::max(big_x, big_y);
+  if (halves[0].bad | halves[1].bad) return std::nullopt;
+  const double big = std::max({halves[0].big_x, halves[0].big_y, halves[1].big_x, halves[1].big_y});
   if (!(big > 0.0)) return std::nullopt;
   const int e = std::ilogb(big);
   if (std::abs(e) <= kNormalRange) return std::nullopt;

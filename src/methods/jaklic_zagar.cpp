@@ -10,7 +10,6 @@
 #include <limits>
 #include <numbers>
 #include <string>
-#include <thread>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -22,6 +21,7 @@
 #include "detail/huge_pages.hpp"
 #include "detail/input.hpp"
 #include "detail/numbers.hpp"
+#include "detail/two_threads.hpp"
 #include "fairspline/error.hpp"
 #include "fairspline/parameterization.hpp"
 
@@ -657,11 +657,6 @@ std::uint64_t pieces_into(const Problem& pb, const Vec2* dirs, std::size_t first
   return bad;
 }
 
-// Curves at least this long are built on two threads when the result's arrays already have
-// their sizes (a reused result: fit_into in a loop). Fresh arrays would have to be zeroed first,
-// which costs about what the second core saves. Below it a thread's start is not worth it.
-constexpr std::size_t kTwoThreadPoints = std::size_t{1} << 17;
-
 // Both passes on two threads, each on half the points: the same operations per point as on
 // one, so the same bits. A reversal in both halves is reported at the first, as on one thread.
 std::uint64_t build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs,
@@ -670,7 +665,7 @@ std::uint64_t build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs,
   std::exception_ptr failed[2];
   std::uint64_t bad[2] = {0, 0};
   std::barrier directions_done(2);
-  auto half = [&](int h) {
+  detail::on_two_threads([&](int h) {
     const std::size_t first = h == 0 ? 0 : mid, last = h == 0 ? mid : n;
     try {
       Vec2* out = dirs.data() + first;
@@ -681,10 +676,7 @@ std::uint64_t build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs,
     directions_done.arrive_and_wait();  // each half's pieces read a direction of the other's
     if (failed[0] || failed[1]) return;
     bad[h] = pieces_into(pb, dirs.data(), h == 0 ? 0 : mid, h == 0 ? mid : spans, segs.data());
-  };
-  std::thread helper(half, 1);
-  half(0);
-  helper.join();
+  });
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
   // The last direction of an open curve is no piece's d0.
@@ -696,8 +688,10 @@ void build(const Problem& pb, FitResult& result) {
   std::vector<Segment>& segs = result.spline.segments;
   const std::size_t n = pb.points.size(), spans = pb.closed ? n : n - 1;
   std::uint64_t bad = 0;
-  if (n >= kTwoThreadPoints && dirs.size() == n && segs.size() == spans &&
-      std::thread::hardware_concurrency() > 1) {
+  // On two threads when the result's arrays already have their sizes (a reused result:
+  // fit_into in a loop). Fresh arrays would have to be zeroed first, which costs about what the
+  // second core saves.
+  if (detail::split_in_two(n) && dirs.size() == n && segs.size() == spans) {
     bad = build_on_two_threads(pb, dirs, segs);
   } else {
     dirs.clear();
