@@ -636,8 +636,33 @@ void directions(const Problem& pb, std::size_t first, std::size_t last, Emit&& e
 // separate pass measured faster than emitting them per block). Non-finite control points or
 // directions set bits of `bad` (checked while in registers; points and knots were checked by
 // prepare_input).
+// Whether a value seen was not finite: x − x is +0 for a finite x and NaN otherwise, and the
+// bitwise OR of those stays all zero bits until one is NaN. In SSE2 registers, so that the
+// pieces' loop moves nothing to integer registers (the bit tests were the largest share of it).
+struct FiniteCheck {
+#if defined(__SSE2__)
+  __m128d acc = _mm_setzero_pd();
+  FAIRSPLINE_JZ_INLINE void add(Vec2 v) {
+    const __m128d x = _mm_set_pd(v.y, v.x);
+    acc = _mm_or_pd(acc, _mm_sub_pd(x, x));
+  }
+  bool bad() const {
+    const __m128i zero = _mm_setzero_si128();
+    return _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_castpd_si128(acc), zero)) != 0xFFFF;
+  }
+#else
+  std::uint64_t bits = 0;
+  void add(Vec2 v) {
+    bits |= detail::non_finite_bits(v);
+  }
+  bool bad() const {
+    return bits != 0;
+  }
+#endif
+};
+
 FAIRSPLINE_JZ_INLINE Segment piece(const Problem& pb, const Vec2* dirs, std::size_t j,
-                                   std::uint64_t& bad) {
+                                   FiniteCheck& check) {
   const auto& P = pb.points;
   const std::size_t n = P.size();
   const std::size_t k = j + 1 == n ? 0 : j + 1;
@@ -645,25 +670,26 @@ FAIRSPLINE_JZ_INLINE Segment piece(const Problem& pb, const Vec2* dirs, std::siz
   const Vec2 d0 = dirs[j], d1 = dirs[k];
   const Point p1 = P[j] + (dot(d0, delta) * (1.0 / 3.0)) * d0;
   const Point p2 = P[k] - (dot(d1, delta) * (1.0 / 3.0)) * d1;
-  bad |= detail::non_finite_bits(d0) | detail::non_finite_bits(p1) | detail::non_finite_bits(p2);
+  check.add(d0);
+  check.add(p1);
+  check.add(p2);
   return Segment{CubicBezier{{P[j], p1, p2, P[k]}}, pb.knots[j], pb.knots[j + 1], j};
 }
 
 // Pieces first..last-1 into out[first..last-1].
-std::uint64_t pieces_into(const Problem& pb, const Vec2* dirs, std::size_t first, std::size_t last,
-                          Segment* out) {
-  std::uint64_t bad = 0;
-  for (std::size_t j = first; j < last; ++j) out[j] = piece(pb, dirs, j, bad);
-  return bad;
+bool pieces_into(const Problem& pb, const Vec2* dirs, std::size_t first, std::size_t last,
+                 Segment* out) {
+  FiniteCheck check;
+  for (std::size_t j = first; j < last; ++j) out[j] = piece(pb, dirs, j, check);
+  return check.bad();
 }
 
 // Both passes on two threads, each on half the points: the same operations per point as on
 // one, so the same bits. A reversal in both halves is reported at the first, as on one thread.
-std::uint64_t build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs,
-                                   std::vector<Segment>& segs) {
+bool build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs, std::vector<Segment>& segs) {
   const std::size_t n = pb.points.size(), spans = segs.size(), mid = n / 2;
   std::exception_ptr failed[2];
-  std::uint64_t bad[2] = {0, 0};
+  bool bad[2] = {false, false};
   std::barrier directions_done(2);
   detail::on_two_threads([&](int h) {
     const std::size_t first = h == 0 ? 0 : mid, last = h == 0 ? mid : n;
@@ -680,14 +706,14 @@ std::uint64_t build_on_two_threads(const Problem& pb, std::vector<Vec2>& dirs,
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
   // The last direction of an open curve is no piece's d0.
-  return bad[0] | bad[1] | (pb.closed ? 0 : detail::non_finite_bits(dirs[n - 1]));
+  return bad[0] || bad[1] || (!pb.closed && detail::non_finite_bits(dirs[n - 1]) != 0);
 }
 
 void build(const Problem& pb, FitResult& result) {
   std::vector<Vec2>& dirs = result.tangents;
   std::vector<Segment>& segs = result.spline.segments;
   const std::size_t n = pb.points.size(), spans = pb.closed ? n : n - 1;
-  std::uint64_t bad = 0;
+  bool bad = false;
   // On two threads when the result's arrays already have their sizes (a reused result:
   // fit_into in a loop). Fresh arrays would have to be zeroed first, which costs about what the
   // second core saves.
@@ -697,13 +723,15 @@ void build(const Problem& pb, FitResult& result) {
     dirs.clear();
     detail::reserve_to_fill(dirs, n);
     directions(pb, 0, n, [&dirs](Vec2 d) { dirs.push_back(d); });
-    bad = pb.closed ? 0 : detail::non_finite_bits(dirs[n - 1]);
+    bad = !pb.closed && detail::non_finite_bits(dirs[n - 1]) != 0;
     if (segs.size() == spans) {
       bad |= pieces_into(pb, dirs.data(), 0, spans, segs.data());  // in place: no size updates
     } else {
       segs.clear();
       detail::reserve_to_fill(segs, spans);
-      for (std::size_t j = 0; j < spans; ++j) segs.push_back(piece(pb, dirs.data(), j, bad));
+      FiniteCheck check;
+      for (std::size_t j = 0; j < spans; ++j) segs.push_back(piece(pb, dirs.data(), j, check));
+      bad |= check.bad();
     }
   }
   if (bad) [[unlikely]] {
