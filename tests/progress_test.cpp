@@ -159,6 +159,21 @@ TEST(FitProgress, BadLimitsAreBadOptions) {
                         {"the progress interval must be a number of seconds"});
 }
 
+TEST(FitProgress, AnInfiniteIntervalOrLimitMeansNever) {
+  // Durations past the clock's range are "never", not an overflow.
+  const FitInput in = walk(60, 3);
+  std::vector<Call> calls;
+  FitOptions o = recording(calls);
+  o.progress_interval = std::numeric_limits<double>::infinity();
+  o.time_limit = std::numeric_limits<double>::infinity();
+  const FitResult r = fit("quasi-elastic", in, {{"search", "coordinate"}}, o);
+  EXPECT_TRUE(calls.empty());
+  EXPECT_EQ(r.spline.segments.size(), 59u);
+  o.progress_interval = 1e300;
+  o.time_limit = 1e300;
+  EXPECT_NO_THROW(fit("quasi-elastic", in, {}, o));
+}
+
 TEST(FitProgress, AnExceptionFromTheCallbackReachesTheCallerAndNothingStaysInstalled) {
   const FitInput in = walk(60, 3);
   FitOptions o;

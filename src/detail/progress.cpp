@@ -1,6 +1,6 @@
 #include "detail/progress.hpp"
 
-#include <cmath>
+#include <algorithm>
 #include <string>
 
 #include "detail/format.hpp"
@@ -12,19 +12,27 @@ FitWatch*& current_watch() {
   return watch;
 }
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// `seconds` after `from`; past ~300 years (or infinite) a duration would overflow the clock's
+/// count: never, then.
+Clock::time_point after(Clock::time_point from, double seconds) {
+  if (!(seconds < 1e10)) return Clock::time_point::max();
+  return from + std::chrono::duration_cast<Clock::duration>(
+                    std::chrono::duration<double>(std::max(seconds, 0.0)));
+}
+
+}  // namespace
+
 FitWatch::FitWatch(const FitOptions& options) {
   if (!options.time_limit && !options.progress) return;
   options_ = &options;
   outer_ = current_watch();
   start_ = Clock::now();
-  const auto after = [&](double seconds) {
-    // Past ~300 years a duration overflows the clock's count: no deadline then.
-    if (!(seconds < 1e10)) return Clock::time_point::max();
-    return start_ + std::chrono::duration_cast<Clock::duration>(
-                        std::chrono::duration<double>(std::max(seconds, 0.0)));
-  };
-  next_call_ = after(options.progress_interval);
-  deadline_ = options.time_limit ? after(*options.time_limit) : Clock::time_point::max();
+  next_call_ = after(start_, options.progress_interval);
+  deadline_ = options.time_limit ? after(start_, *options.time_limit) : Clock::time_point::max();
   current_watch() = this;
 }
 
@@ -51,8 +59,7 @@ void FitWatch::check(std::string_view stage, std::size_t done, std::size_t total
         Error(ErrorCode::kCancelled, "the fit was cancelled by its progress callback" + during());
     throw *stopped_;
   }
-  next_call_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                  std::chrono::duration<double>(options_->progress_interval));
+  next_call_ = after(Clock::now(), options_->progress_interval);
 }
 
 }  // namespace fairspline::detail
