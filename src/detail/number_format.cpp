@@ -321,10 +321,12 @@ char* format_buffer(char* buf, int len, int decimal_exponent, int min_exp, int m
   }
   if (min_exp < n && n <= 0) {  // 0.[000]digits
     const auto zeros = static_cast<std::size_t>(-n);
-    std::memmove(buf + 2 + zeros, buf, uk);
-    buf[0] = '0';
-    buf[1] = '.';
-    std::memset(buf + 2, '0', zeros);
+    // Fixed-size copies (sign, "0.000" and 24 bytes fit in kJsonNumberChars: uk <= 17,
+    // zeros <= 3) instead of a memmove and a memset call: 4% of formatting a tangent's value.
+    char digits[24];
+    std::memcpy(digits, buf, sizeof digits);
+    std::memcpy(buf, "0.000", 5);
+    std::memcpy(buf + 2 + zeros, digits, sizeof digits);
     return buf + 2 + zeros + uk;
   }
   if (k == 1) {  // de+123
