@@ -18,8 +18,8 @@ std::string min_energy_search_name(MinEnergySearch search);
 /// The option "max_iterations": unset (null), the limit depends on the input.
 inline constexpr const char* kMaxIterationsDoc =
     "Newton iteration limit (an error if reached); default 200 up to 1000 points, "
-    "200 (log10 n - 2) beyond; for the elastic spline 400 (log10 n - 2) from 316 points; at least "
-    "1000 with data balls";
+    "200 (log10 n - 2) beyond; for the elastic spline 400 (log10 n - 2) from 316 points; with "
+    "data balls at least 4000000 / n, within 1000 to 4000";
 
 /// MinEnergyOptions::max_iterations when it is unset, for n points of a fit with this basis.
 int default_iteration_limit(std::size_t n, bool data_balls, MinEnergyBasis basis);

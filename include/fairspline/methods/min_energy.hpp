@@ -105,11 +105,13 @@ struct MinEnergyOptions {
   /// kDefaultIterations · (log10 n − 2) beyond (400 at 10⁴, 600 at 10⁵: every late active-set
   /// change in a long chain costs a global iteration); for the elastic spline
   /// 2 kDefaultIterations · (log10 n − 2) from 316 points (800 at 10⁴, 1200 at 10⁵: a 10⁵-point
-  /// walk within ±150° needed 623); with data balls at least
-  /// kDefaultBallIterations (their active set may change by one disc per iteration).
+  /// walk within ±150° needed 623); with data balls at least 4·10⁶ / n within
+  /// [kDefaultBallIterations, kMostBallIterations] (their active set may change by one disc per
+  /// iteration, and beside near-repeated pairs they converge linearly).
   std::optional<int> max_iterations;
   static constexpr int kDefaultIterations = 200;
   static constexpr int kDefaultBallIterations = 1000;
+  static constexpr int kMostBallIterations = 4000;
   /// Stop when the projected gradient's largest entry is below tolerance · max(1/L_i) (the
   /// natural size of the gradient for the data's chord lengths).
   double tolerance = 1e-10;
