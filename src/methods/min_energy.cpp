@@ -2934,7 +2934,7 @@ int detail::default_iteration_limit(std::size_t n, bool data_balls, MinEnergyBas
   if (!data_balls) return grown;
   // Short curves get more: beside near-repeated pairs the ball optimizer converges linearly
   // along the sliding directions (seed 19: 1251-2714 iterations) at a few µs per node and step,
-  // so 4000 cost a 100-point fit ~1 s; long ones keep the floor, their steps costing seconds.
+  // so 4000 cost a 100-point fit ~1.5 s; long ones keep the floor, their steps costing seconds.
   const double ball_cap = std::clamp(4e6 / points, double{MinEnergyOptions::kDefaultBallIterations},
                                      double{MinEnergyOptions::kMostBallIterations});
   return std::max(grown, static_cast<int>(ball_cap));
